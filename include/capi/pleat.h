@@ -1,0 +1,337 @@
+/*
+ * pleat: learned garment deformation behind a stable C ABI.
+ *
+ * This is the only public header. It compiles as C99 and C++, includes only
+ * <stddef.h> and <stdint.h>, and follows these rules (docs/c_api.md):
+ *
+ *  - Every fallible function returns pleat_status (PLEAT_OK = 0). On failure its
+ *    outputs are left untouched and pleat_last_error() names the file, field or
+ *    index at fault.
+ *  - Objects are opaque handles with a destroy function that accepts NULL.
+ *    Garments are immutable once prepared and may then be shared by threads.
+ *  - Options structs begin with uint32_t struct_size; a NULL options pointer or
+ *    a zero field means "use the default". Only fixed-width fields.
+ *  - dlopen users call pleat_get_api(PLEAT_API_VERSION) and use the table; its
+ *    layout only ever grows and is pinned by offsetof checks in the tests.
+ *
+ * Conventions: metres, right-handed, Y up. Positions are float32 xyz triples.
+ * A "frames" buffer holds frame_count frames of vertex_count xyz triples; its
+ * frame_stride is the distance in floats between the starts of two frames
+ * (0 means tightly packed, vertex_count * 3).
+ */
+#ifndef PLEAT_H
+#define PLEAT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32)
+#define PLEAT_EXPORT __declspec(dllexport)
+#else
+#define PLEAT_EXPORT __attribute__((visibility("default")))
+#endif
+
+/* ---- Versions ------------------------------------------------------------ */
+
+#define PLEAT_VERSION_MAJOR 0
+#define PLEAT_VERSION_MINOR 1
+#define PLEAT_VERSION_PATCH 0
+#define PLEAT_VERSION_STRING "0.1.0"
+/* (major << 16) | (minor << 8) | patch, as returned by pleat_version(). */
+#define PLEAT_VERSION_NUMBER                                                   \
+  ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
+/* Version of the function table returned by pleat_get_api(). */
+#define PLEAT_API_VERSION 1u
+
+/* ---- Status codes -------------------------------------------------------- */
+
+typedef int32_t pleat_status;
+#define PLEAT_OK 0
+#define PLEAT_ERROR_INVALID_ARGUMENT 1 /* NULL pointer, bad size, bad option */
+#define PLEAT_ERROR_IO 2               /* file missing, unreadable, unwritable */
+#define PLEAT_ERROR_FORMAT 3           /* file content malformed or truncated */
+#define PLEAT_ERROR_INVALID_MESH 4     /* mesh cannot be used (empty, NaN, ...) */
+#define PLEAT_ERROR_UNSUPPORTED_VERSION 5 /* file written by a newer pleat */
+#define PLEAT_ERROR_OUT_OF_MEMORY 6
+#define PLEAT_ERROR_BUFFER_TOO_SMALL 7 /* caller buffer smaller than required */
+#define PLEAT_ERROR_NUMERICAL 8        /* solver failed to converge, NaN result */
+#define PLEAT_ERROR_NOT_PREPARED 9     /* garment lacks the prepared data asked for */
+#define PLEAT_ERROR_INTERNAL 10        /* a bug in pleat: please report it */
+
+/* ---- Handles ------------------------------------------------------------- */
+
+typedef struct pleat_garment pleat_garment;
+
+/* ---- Plain data ---------------------------------------------------------- */
+
+typedef struct pleat_const_frames {
+  const float* data;
+  size_t frame_stride; /* floats between frame starts; 0 = vertex_count * 3 */
+} pleat_const_frames;
+
+typedef struct pleat_frames {
+  float* data;         /* NULL: this output is not wanted */
+  size_t frame_stride; /* floats between frame starts; 0 = vertex_count * 3 */
+} pleat_frames;
+
+/* Unit guess of the validation report. */
+#define PLEAT_UNITS_METRES 0
+#define PLEAT_UNITS_LOOK_LIKE_CENTIMETRES 1
+#define PLEAT_UNITS_LOOK_LIKE_MILLIMETRES 2
+
+typedef struct pleat_garment_load_options {
+  uint32_t struct_size;
+  uint32_t reserved;
+  /* Vertices closer than this (after unit_scale) are welded into one, so that
+     UV seams do not split the graph. 0: 1e-6 of the bounding-box diagonal.
+     Negative: do not weld. */
+  double weld_tolerance;
+  /* Multiplies every coordinate on load, e.g. 0.01 for a file in centimetres.
+     0: 1 (the file is in metres). */
+  double unit_scale;
+} pleat_garment_load_options;
+
+/* What loading found. Counts refer to the mesh as loaded (after welding). */
+typedef struct pleat_mesh_report {
+  uint32_t struct_size;
+  uint32_t input_vertex_count;      /* vertices in the source, before welding */
+  uint32_t vertex_count;            /* graph vertices after welding */
+  uint32_t triangle_count;          /* usable triangles kept */
+  uint32_t welded_vertex_count;     /* duplicates merged into another vertex */
+  uint32_t component_count;         /* connected components of the edge graph */
+  uint32_t boundary_loop_count;     /* closed loops of boundary edges */
+  uint32_t non_manifold_edge_count; /* edges shared by three or more triangles */
+  uint32_t degenerate_triangle_count; /* zero-area or repeated-index, dropped */
+  uint32_t isolated_vertex_count;   /* vertices used by no triangle */
+  uint32_t units;                   /* PLEAT_UNITS_* guess from the size */
+  uint32_t reserved;
+  float bbox_min[3];
+  float bbox_max[3];
+  double total_area; /* m^2 */
+} pleat_mesh_report;
+
+/* Band solver selection (pleat_prepare_options.solver). */
+#define PLEAT_SOLVER_AUTO 0    /* dense below 3000 vertices, slicing above */
+#define PLEAT_SOLVER_DENSE 1   /* LAPACK dsyevr on the dense Laplacian */
+#define PLEAT_SOLVER_SLICING 2 /* shift-invert Lanczos slices, CHOLMOD LDL^T */
+#define PLEAT_SOLVER_HYBRID 3  /* window eigenpairs + Chebyshev-filtered subspace */
+
+/* Band projection form (pleat_prepare_options.projection). */
+#define PLEAT_PROJECTION_RANDOM_WALK 0 /* D^-1/2 U U^T D^1/2: translation-invariant */
+#define PLEAT_PROJECTION_SYMMETRIC 1   /* U U^T exactly as in the paper */
+
+typedef struct pleat_prepare_options {
+  uint32_t struct_size;
+  uint32_t solver;     /* PLEAT_SOLVER_*; 0 = auto */
+  uint32_t projection; /* PLEAT_PROJECTION_*; 0 = random walk */
+  uint32_t reserved;
+  double low_fraction;      /* low/mid cut at ceil(N * f); 0 = 1/30 */
+  double mid_fraction;      /* mid/high cut at ceil(N * f); 0 = 1/5 */
+  double geodesic_radius;   /* metres; rest-pose neighbourhood radius; 0 = 0.10 */
+} pleat_prepare_options;
+
+typedef struct pleat_band_info {
+  uint32_t struct_size;
+  uint32_t vertex_count;
+  uint32_t low_count;           /* eigenvectors in the low band (after gap move) */
+  uint32_t mid_count;           /* eigenvectors in low + mid (after gap move) */
+  uint32_t low_count_requested; /* ceil(N * low_fraction) */
+  uint32_t mid_count_requested; /* ceil(N * mid_fraction) */
+  uint32_t solver;              /* PLEAT_SOLVER_* actually used */
+  uint32_t projection;          /* PLEAT_PROJECTION_* */
+  double low_gap;               /* lambda[low_count] - lambda[low_count - 1] */
+  double mid_gap;               /* lambda[mid_count] - lambda[mid_count - 1] */
+  double geodesic_radius;       /* metres */
+  uint64_t geodesic_pair_count; /* vertex pairs within the radius */
+} pleat_band_info;
+
+/* Metric selection (pleat_metrics_options.flags); 0 = all that apply. */
+#define PLEAT_METRIC_VERTEX 0x1u         /* E_verts */
+#define PLEAT_METRIC_NORMALS 0x2u        /* E_vnorm, E_fnorm */
+#define PLEAT_METRIC_EDGES 0x4u          /* E_edge */
+#define PLEAT_METRIC_CURVATURE 0x8u      /* E_curv */
+#define PLEAT_METRIC_BANDS 0x10u         /* per-band E_verts (needs prepare) */
+#define PLEAT_METRIC_SELF_COLLISION 0x20u /* self-collision rate of predicted */
+
+typedef struct pleat_metrics_options {
+  uint32_t struct_size;
+  uint32_t flags;             /* PLEAT_METRIC_*; 0 = everything that applies */
+  double collision_prefilter; /* metres; pair pre-filter radius; 0 = 0.015 */
+} pleat_metrics_options;
+
+/* Means over all frames (and vertices, faces or edges). Metrics not computed
+   are 0 and their bit is clear in `computed`. */
+typedef struct pleat_metrics {
+  uint32_t struct_size;
+  uint32_t computed;          /* PLEAT_METRIC_* bits actually computed */
+  uint64_t frame_count;
+  double e_verts_cm;          /* mean vertex distance */
+  double e_vnorm_deg;         /* mean angle between vertex normals */
+  double e_fnorm_deg;         /* mean angle between face normals */
+  double e_edge_percent;      /* mean relative edge-length error */
+  double e_curv;              /* mean |K_pred - K_truth|, K in 1/m^2 */
+  double e_low_cm;            /* per-band mean vertex distance */
+  double e_mid_cm;
+  double e_high_cm;
+  double self_collision_percent; /* faces crossed by a non-adjacent edge */
+} pleat_metrics;
+
+/* Point-cache formats for pleat_cache_write / pleat_cache_read. */
+#define PLEAT_CACHE_AUTO 0    /* from the extension: .pc2, .mdd, else OBJ sequence */
+#define PLEAT_CACHE_PC2 1
+#define PLEAT_CACHE_MDD 2
+#define PLEAT_CACHE_OBJ_SEQUENCE 3 /* path holds a run of '#' for the frame number */
+
+typedef struct pleat_cache_info {
+  uint32_t struct_size;
+  uint32_t format;      /* PLEAT_CACHE_* */
+  uint64_t frame_count;
+  uint64_t vertex_count;
+  double frame_rate;    /* frames per second */
+  double start_time;    /* seconds */
+} pleat_cache_info;
+
+/* ---- Library ------------------------------------------------------------- */
+
+/* PLEAT_VERSION_NUMBER of the loaded library. Thread-safe. */
+PLEAT_EXPORT uint32_t pleat_version(void);
+
+/* Message of the last failed call on the calling thread ("" if none). Valid
+   until the next pleat call on this thread. Thread-safe (thread-local). */
+PLEAT_EXPORT const char* pleat_last_error(void);
+
+/* Constant name of a status code, e.g. "PLEAT_ERROR_IO". Thread-safe. */
+PLEAT_EXPORT const char* pleat_status_name(pleat_status status);
+
+/* ---- Garments ------------------------------------------------------------ */
+
+/* Loads a garment from an OBJ, FBX or glTF file (through assimp), or a
+   prepared-garment file written by pleat_garment_save (recognised by its
+   FlatBuffers identifier; options are then ignored). Welds coincident
+   vertices, builds the edge graph, rest normals and vertex areas, and fills
+   the validation report. Fails with PLEAT_ERROR_INVALID_MESH only where the
+   mesh cannot be used (no triangles, non-finite coordinates).
+   Thread-safe (no shared state). */
+PLEAT_EXPORT pleat_status pleat_garment_load(const char* path,
+                                             const pleat_garment_load_options* options,
+                                             pleat_garment** out_garment);
+
+/* Same from caller arrays: vertex_count xyz floats, triangle_count index
+   triples. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_garment_create(const float* positions, size_t vertex_count,
+                                               const uint32_t* triangles, size_t triangle_count,
+                                               const pleat_garment_load_options* options,
+                                               pleat_garment** out_garment);
+
+/* NULL is accepted. Not thread-safe with other calls on the same garment. */
+PLEAT_EXPORT void pleat_garment_destroy(pleat_garment* garment);
+
+/* Copies the validation report. Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_garment_get_report(const pleat_garment* garment,
+                                                   pleat_mesh_report* out_report);
+
+/* Copies the welded rest positions (vertex_count * 3 floats) and triangles
+   (triangle_count * 3 indices); either output may be NULL. Capacities are in
+   elements (floats, indices). Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_garment_get_mesh(const pleat_garment* garment,
+                                                 float* positions, size_t positions_capacity,
+                                                 uint32_t* triangles, size_t triangles_capacity);
+
+/* Computes the spectral bands and the rest-pose geodesic neighbourhoods.
+   Call once, before sharing the garment between threads; afterwards the
+   garment is immutable. Not thread-safe with other calls on this garment. */
+PLEAT_EXPORT pleat_status pleat_garment_prepare(pleat_garment* garment,
+                                                const pleat_prepare_options* options);
+
+/* Band settings of a prepared garment. PLEAT_ERROR_NOT_PREPARED otherwise.
+   Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_garment_get_band_info(const pleat_garment* garment,
+                                                      pleat_band_info* out_info);
+
+/* Writes the prepared garment (mesh, report, bands, neighbourhoods) to a
+   FlatBuffers file, atomically (temporary file, then rename).
+   Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_garment_save(const pleat_garment* garment, const char* path);
+
+/* Splits frame_count frames of positions into low, mid and high bands, with
+   low + mid + high = input. Any output whose data is NULL is skipped.
+   Allocates a scratch buffer per call (batch frames to amortise it).
+   Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_garment_split_bands(const pleat_garment* garment,
+                                                    pleat_const_frames positions,
+                                                    size_t frame_count, pleat_frames low,
+                                                    pleat_frames mid, pleat_frames high);
+
+/* ---- Metrics ------------------------------------------------------------- */
+
+/* Compares predicted with ground-truth frames of the garment's vertices
+   (paper section IV). Band errors need a prepared garment and are skipped
+   (bit clear) otherwise unless explicitly requested, which then fails with
+   PLEAT_ERROR_NOT_PREPARED. Thread-safe on a shared garment. */
+PLEAT_EXPORT pleat_status pleat_metrics_compute(const pleat_garment* garment,
+                                                pleat_const_frames predicted,
+                                                pleat_const_frames truth, size_t frame_count,
+                                                const pleat_metrics_options* options,
+                                                pleat_metrics* out_metrics);
+
+/* ---- Point caches -------------------------------------------------------- */
+
+/* Reads the header of a PC2 or MDD file, or counts an OBJ sequence.
+   format: PLEAT_CACHE_*. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_cache_get_info(const char* path, uint32_t format,
+                                               pleat_cache_info* out_info);
+
+/* Reads every frame into out (frame_count * vertex_count * 3 floats at the
+   given stride; capacity in floats). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_cache_read(const char* path, uint32_t format, pleat_frames out,
+                                           size_t capacity);
+
+/* Writes frames atomically. An OBJ sequence takes its faces from `garment`
+   (required for that format, ignored otherwise). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format,
+                                            const pleat_garment* garment,
+                                            pleat_const_frames positions, size_t frame_count,
+                                            size_t vertex_count, double frame_rate);
+
+/* ---- Function table for dlopen users ------------------------------------- */
+
+typedef struct pleat_api {
+  uint32_t struct_size; /* sizeof(pleat_api) of the library */
+  uint32_t version;     /* PLEAT_API_VERSION it serves */
+  uint32_t (*version_number)(void);
+  const char* (*last_error)(void);
+  const char* (*status_name)(pleat_status);
+  pleat_status (*garment_load)(const char*, const pleat_garment_load_options*, pleat_garment**);
+  pleat_status (*garment_create)(const float*, size_t, const uint32_t*, size_t,
+                                 const pleat_garment_load_options*, pleat_garment**);
+  void (*garment_destroy)(pleat_garment*);
+  pleat_status (*garment_get_report)(const pleat_garment*, pleat_mesh_report*);
+  pleat_status (*garment_get_mesh)(const pleat_garment*, float*, size_t, uint32_t*, size_t);
+  pleat_status (*garment_prepare)(pleat_garment*, const pleat_prepare_options*);
+  pleat_status (*garment_get_band_info)(const pleat_garment*, pleat_band_info*);
+  pleat_status (*garment_save)(const pleat_garment*, const char*);
+  pleat_status (*garment_split_bands)(const pleat_garment*, pleat_const_frames, size_t,
+                                      pleat_frames, pleat_frames, pleat_frames);
+  pleat_status (*metrics_compute)(const pleat_garment*, pleat_const_frames, pleat_const_frames,
+                                  size_t, const pleat_metrics_options*, pleat_metrics*);
+  pleat_status (*cache_get_info)(const char*, uint32_t, pleat_cache_info*);
+  pleat_status (*cache_read)(const char*, uint32_t, pleat_frames, size_t);
+  pleat_status (*cache_write)(const char*, uint32_t, const pleat_garment*, pleat_const_frames,
+                              size_t, size_t, double);
+} pleat_api;
+
+/* The table for `version`, or NULL if this library does not serve it (a newer
+   version than it knows, or 0). The table is static: never freed.
+   Thread-safe. */
+PLEAT_EXPORT const pleat_api* pleat_get_api(uint32_t version);
+typedef const pleat_api* (*pleat_get_api_fn)(uint32_t version);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PLEAT_H */

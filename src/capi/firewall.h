@@ -1,0 +1,73 @@
+#pragma once
+// The exception firewall every C entry point goes through: no C++ exception
+// crosses the boundary, and every failure leaves a thread-local message.
+#include <cstring>
+#include <new>
+#include <string>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+
+namespace pleat::capi {
+
+void set_last_error(const std::string& message);
+
+// Runs body(); maps pleat::Error to its status, bad_alloc to
+// PLEAT_ERROR_OUT_OF_MEMORY and anything else to PLEAT_ERROR_INTERNAL, with
+// the entry point's name in front of the message.
+template <typename Body>
+pleat_status guarded(const char* function, Body&& body) noexcept {
+  try {
+    body();
+    return PLEAT_OK;
+  } catch (const Error& e) {
+    set_last_error(std::string(function) + ": " + e.what());
+    return e.status();
+  } catch (const std::bad_alloc&) {
+    set_last_error(std::string(function) + ": out of memory");
+    return PLEAT_ERROR_OUT_OF_MEMORY;
+  } catch (const std::exception& e) {
+    set_last_error(std::string(function) + ": internal error: " + e.what());
+    return PLEAT_ERROR_INTERNAL;
+  } catch (...) {
+    set_last_error(std::string(function) + ": internal error");
+    return PLEAT_ERROR_INTERNAL;
+  }
+}
+
+inline void require(bool condition, const std::string& message) {
+  if (!condition) fail(PLEAT_ERROR_INVALID_ARGUMENT, message);
+}
+
+template <typename T>
+void require_not_null(const T* pointer, const char* name) {
+  require(pointer != nullptr, std::string("argument '") + name + "' is NULL");
+}
+
+// Reads a caller's options struct: fields beyond the caller's struct_size
+// (an older caller) keep their defaults; a newer caller's extra fields are
+// ignored. NULL means all defaults.
+template <typename Options>
+Options read_options(const Options* options, const char* name) {
+  Options result{};
+  if (!options) return result;
+  require(options->struct_size >= sizeof(uint32_t),
+          std::string("'") + name + ".struct_size' is " + std::to_string(options->struct_size) +
+              "; set it to sizeof(" + name + ")");
+  std::memcpy(&result, options, std::min<size_t>(options->struct_size, sizeof(Options)));
+  return result;
+}
+
+// Writes a result struct into the caller's, up to the caller's struct_size.
+template <typename Result>
+void write_result(const Result& result, Result* out, const char* name) {
+  require_not_null(out, name);
+  require(out->struct_size >= sizeof(uint32_t),
+          std::string("'") + name + "->struct_size' is " + std::to_string(out->struct_size) +
+              "; set it to sizeof the struct");
+  const uint32_t caller_size = out->struct_size;
+  std::memcpy(out, &result, std::min<size_t>(caller_size, sizeof(Result)));
+  out->struct_size = caller_size;
+}
+
+}  // namespace pleat::capi

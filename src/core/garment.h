@@ -1,0 +1,51 @@
+#pragma once
+// A garment: the welded rest mesh, its graph and rest geometry, what loading
+// found, and (once prepared) its spectral bands and geodesic neighbourhoods.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "capi/pleat.h"
+#include "core/mesh.h"
+#include "spectral/bands.h"
+
+namespace pleat {
+
+struct GarmentBuildOptions {
+  double weld_tolerance = 0.0;  // 0: relative default; < 0: no welding
+  double unit_scale = 1.0;
+};
+
+// Relative weld tolerance used when the caller gives none.
+constexpr double kDefaultWeldTolerance = 1e-6;  // of the bounding-box diagonal
+// Coordinates beyond this many metres are treated as corrupt input.
+constexpr double kMaxCoordinate = 1e5;
+
+struct PreparedData {
+  BandBasis<float> bands;
+  double geodesic_radius = 0.0;
+  Csr geodesic;  // rest-pose neighbourhoods within geodesic_radius
+};
+
+struct Garment {
+  TriMesh rest;                          // welded, degenerate triangles dropped
+  std::vector<int32_t> source_vertex;    // input vertex -> rest vertex
+  std::vector<Edge> edges;
+  Csr graph;
+  Points3d rest_normals;
+  Eigen::VectorXd vertex_areas;
+  pleat_mesh_report report{};
+  std::optional<PreparedData> prepared;
+  std::string source;                    // file it came from, for messages
+};
+
+// Validates, welds and analyses a triangle soup. `source` names the origin in
+// error messages. Throws PLEAT_ERROR_INVALID_MESH only for unusable input.
+Garment build_garment(const Points3d& vertices, const Triangles& triangles,
+                      const GarmentBuildOptions& options, const std::string& source);
+
+// Recomputes the derived rest data (edges, graph, normals, areas) of
+// garment.rest; shared by build_garment and the prepared-file reader.
+void derive_rest_data(Garment* garment);
+
+}  // namespace pleat

@@ -1,0 +1,77 @@
+#include "io/mesh_import.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <assimp/Importer.hpp>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "core/error.h"
+
+namespace pleat {
+namespace {
+
+struct Collector {
+  std::vector<double> positions;
+  std::vector<int32_t> indices;
+};
+
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, Collector* out) {
+  const aiMatrix4x4 transform = parent * node->mTransformation;
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[i]];
+    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    const auto base = static_cast<int32_t>(out->positions.size() / 3);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      aiVector3D p = transform * mesh->mVertices[v];
+      out->positions.insert(out->positions.end(), {p.x, p.y, p.z});
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines left by SortByPType
+      for (int c = 0; c < 3; ++c) out->indices.push_back(base + static_cast<int32_t>(face.mIndices[c]));
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], transform, out);
+}
+
+// FBX stores its unit as centimetres per unit ("UnitScaleFactor"); other
+// formats carry no unit and are taken as metres.
+double file_unit_scale(const aiScene* scene) {
+  if (!scene->mMetaData) return 1.0;
+  double factor = 0.0;
+  float factor_f = 0.0f;
+  if (scene->mMetaData->Get("UnitScaleFactor", factor) && factor > 0.0) return factor / 100.0;
+  if (scene->mMetaData->Get("UnitScaleFactor", factor_f) && factor_f > 0.0f) return factor_f / 100.0;
+  return 1.0;
+}
+
+}  // namespace
+
+ImportedMesh import_mesh(const std::string& path) {
+  std::ifstream probe(path, std::ios::binary);
+  if (!probe) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
+  if (std::filesystem::is_directory(path)) fail(PLEAT_ERROR_IO, path + ": is a directory");
+
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
+  if (!scene || !scene->mRootNode)
+    fail(PLEAT_ERROR_FORMAT, path + ": cannot read the mesh: " + importer.GetErrorString());
+
+  Collector c;
+  collect(scene, scene->mRootNode, aiMatrix4x4(), &c);
+  if (c.indices.empty()) fail(PLEAT_ERROR_INVALID_MESH, path + ": the file holds no triangles");
+
+  ImportedMesh mesh;
+  mesh.unit_scale = file_unit_scale(scene);
+  mesh.vertices = Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
+                  mesh.unit_scale;
+  mesh.triangles = Eigen::Map<Triangles>(c.indices.data(), static_cast<Eigen::Index>(c.indices.size() / 3), 3);
+  return mesh;
+}
+
+}  // namespace pleat

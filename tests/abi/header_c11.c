@@ -1,0 +1,107 @@
+/* The public header compiles as strict C11, and the ABI's layout is pinned
+   here: moving a field of the function table or of a public struct breaks the
+   build. Offsets are for LP64 (Linux, macOS on 64-bit). */
+#include <stddef.h>
+
+#include "capi/pleat.h"
+
+#define PIN(type, field, offset) \
+  _Static_assert(offsetof(type, field) == (offset), #type "." #field " moved")
+#define SIZE(type, size) _Static_assert(sizeof(type) == (size), #type " changed size")
+
+PIN(pleat_api, struct_size, 0);
+PIN(pleat_api, version, 4);
+PIN(pleat_api, version_number, 8);
+PIN(pleat_api, last_error, 16);
+PIN(pleat_api, status_name, 24);
+PIN(pleat_api, garment_load, 32);
+PIN(pleat_api, garment_create, 40);
+PIN(pleat_api, garment_destroy, 48);
+PIN(pleat_api, garment_get_report, 56);
+PIN(pleat_api, garment_get_mesh, 64);
+PIN(pleat_api, garment_prepare, 72);
+PIN(pleat_api, garment_get_band_info, 80);
+PIN(pleat_api, garment_save, 88);
+PIN(pleat_api, garment_split_bands, 96);
+PIN(pleat_api, metrics_compute, 104);
+PIN(pleat_api, cache_get_info, 112);
+PIN(pleat_api, cache_read, 120);
+PIN(pleat_api, cache_write, 128);
+SIZE(pleat_api, 136);
+
+PIN(pleat_const_frames, data, 0);
+PIN(pleat_const_frames, frame_stride, 8);
+SIZE(pleat_const_frames, 16);
+PIN(pleat_frames, data, 0);
+PIN(pleat_frames, frame_stride, 8);
+SIZE(pleat_frames, 16);
+
+PIN(pleat_garment_load_options, struct_size, 0);
+PIN(pleat_garment_load_options, weld_tolerance, 8);
+PIN(pleat_garment_load_options, unit_scale, 16);
+SIZE(pleat_garment_load_options, 24);
+
+PIN(pleat_mesh_report, struct_size, 0);
+PIN(pleat_mesh_report, input_vertex_count, 4);
+PIN(pleat_mesh_report, vertex_count, 8);
+PIN(pleat_mesh_report, triangle_count, 12);
+PIN(pleat_mesh_report, welded_vertex_count, 16);
+PIN(pleat_mesh_report, component_count, 20);
+PIN(pleat_mesh_report, boundary_loop_count, 24);
+PIN(pleat_mesh_report, non_manifold_edge_count, 28);
+PIN(pleat_mesh_report, degenerate_triangle_count, 32);
+PIN(pleat_mesh_report, isolated_vertex_count, 36);
+PIN(pleat_mesh_report, units, 40);
+PIN(pleat_mesh_report, bbox_min, 48);
+PIN(pleat_mesh_report, bbox_max, 60);
+PIN(pleat_mesh_report, total_area, 72);
+SIZE(pleat_mesh_report, 80);
+
+PIN(pleat_prepare_options, struct_size, 0);
+PIN(pleat_prepare_options, solver, 4);
+PIN(pleat_prepare_options, projection, 8);
+PIN(pleat_prepare_options, low_fraction, 16);
+PIN(pleat_prepare_options, mid_fraction, 24);
+PIN(pleat_prepare_options, geodesic_radius, 32);
+SIZE(pleat_prepare_options, 40);
+
+PIN(pleat_band_info, struct_size, 0);
+PIN(pleat_band_info, vertex_count, 4);
+PIN(pleat_band_info, low_count, 8);
+PIN(pleat_band_info, mid_count, 12);
+PIN(pleat_band_info, low_count_requested, 16);
+PIN(pleat_band_info, mid_count_requested, 20);
+PIN(pleat_band_info, solver, 24);
+PIN(pleat_band_info, projection, 28);
+PIN(pleat_band_info, low_gap, 32);
+PIN(pleat_band_info, mid_gap, 40);
+PIN(pleat_band_info, geodesic_radius, 48);
+PIN(pleat_band_info, geodesic_pair_count, 56);
+SIZE(pleat_band_info, 64);
+
+PIN(pleat_metrics_options, struct_size, 0);
+PIN(pleat_metrics_options, flags, 4);
+PIN(pleat_metrics_options, collision_prefilter, 8);
+SIZE(pleat_metrics_options, 16);
+
+PIN(pleat_metrics, struct_size, 0);
+PIN(pleat_metrics, computed, 4);
+PIN(pleat_metrics, frame_count, 8);
+PIN(pleat_metrics, e_verts_cm, 16);
+PIN(pleat_metrics, e_vnorm_deg, 24);
+PIN(pleat_metrics, e_fnorm_deg, 32);
+PIN(pleat_metrics, e_edge_percent, 40);
+PIN(pleat_metrics, e_curv, 48);
+PIN(pleat_metrics, e_low_cm, 56);
+PIN(pleat_metrics, e_mid_cm, 64);
+PIN(pleat_metrics, e_high_cm, 72);
+PIN(pleat_metrics, self_collision_percent, 80);
+SIZE(pleat_metrics, 88);
+
+PIN(pleat_cache_info, struct_size, 0);
+PIN(pleat_cache_info, format, 4);
+PIN(pleat_cache_info, frame_count, 8);
+PIN(pleat_cache_info, vertex_count, 16);
+PIN(pleat_cache_info, frame_rate, 24);
+PIN(pleat_cache_info, start_time, 32);
+SIZE(pleat_cache_info, 40);

@@ -1,0 +1,45 @@
+// `pleat`: prepare and inspect garments (more commands arrive with the runtime).
+#include <cstdio>
+#include <cstring>
+
+#include "cli.h"
+
+namespace {
+
+const char* kUsage =
+    "usage: pleat <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  prepare <mesh> [-o out.pleatg]   weld, validate, compute spectral bands and\n"
+    "                                   geodesic neighbourhoods; print the report\n"
+    "      --solver auto|dense|slicing|hybrid   (default auto)\n"
+    "      --projection random-walk|symmetric   (default random-walk)\n"
+    "      --low-fraction F --mid-fraction F    (defaults 1/30, 1/5)\n"
+    "      --geodesic-radius M                  (metres, default 0.10)\n"
+    "      --weld-tolerance M --unit-scale S    (load options)\n"
+    "  inspect <mesh|file.pleatg>       print the report (and bands, if prepared)\n"
+    "  version                          print the library version\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace pleat_cli;
+  if (argc < 2 || !std::strcmp(argv[1], "help") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string command = argv[1];
+  try {
+    if (command == "version" || command == "--version") {
+      std::printf("pleat %s (library %u.%u.%u)\n", PLEAT_VERSION_STRING, pleat_version() >> 16,
+                  (pleat_version() >> 8) & 0xff, pleat_version() & 0xff);
+      return 0;
+    }
+    if (command == "prepare") return run_prepare(parse_args(argc, argv, 2, {}));
+    if (command == "inspect") return run_inspect(parse_args(argc, argv, 2, {}));
+    throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
+  } catch (const CliError& e) {
+    std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());
+    return e.exit_code;
+  }
+}
