@@ -1,0 +1,117 @@
+// Garments from files: OBJ, FBX and glTF through assimp. The FBX and glTF
+// fixtures are written by assimp's own exporters, an independent writer.
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <gtest/gtest.h>
+
+#include <assimp/Exporter.hpp>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/garment.h"
+#include "io/mesh_import.h"
+#include "support/test_support.h"
+
+using namespace pleat;
+
+namespace {
+
+// A two-quad strip with a UV seam: the middle column exists twice.
+void write_seamed_obj(const std::string& path) {
+  std::ofstream out(path);
+  out << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"   // left quad
+         "v 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"   // right quad, seam copy of x = 1
+         "vt 0 0\nvt 0.4 0\nvt 0.4 1\nvt 0 1\n"   // separate UV islands, as
+         "vt 0.6 0\nvt 1 0\nvt 1 1\nvt 0.6 1\n"   // a garment's panels have
+         "f 1/1 2/2 3/3 4/4\nf 5/5 6/6 7/7 8/8\n";
+}
+
+// Exports the strip through assimp in the given format id ("fbx", "gltf2", ...).
+void export_strip(const std::string& path, const char* format) {
+  aiScene scene;
+  scene.mRootNode = new aiNode();
+  scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene.mNumMaterials = 1;
+  scene.mMeshes = new aiMesh*[1]{new aiMesh()};
+  scene.mNumMeshes = 1;
+  scene.mRootNode->mMeshes = new unsigned[1]{0};
+  scene.mRootNode->mNumMeshes = 1;
+  aiMesh* mesh = scene.mMeshes[0];
+  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  const float xyz[6][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  mesh->mNumVertices = 6;
+  mesh->mVertices = new aiVector3D[6];
+  for (int i = 0; i < 6; ++i) mesh->mVertices[i] = aiVector3D(xyz[i][0], xyz[i][1], xyz[i][2]);
+  const unsigned tri[4][3] = {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}};
+  mesh->mNumFaces = 4;
+  mesh->mFaces = new aiFace[4];
+  for (int f = 0; f < 4; ++f) {
+    mesh->mFaces[f].mNumIndices = 3;
+    mesh->mFaces[f].mIndices = new unsigned[3]{tri[f][0], tri[f][1], tri[f][2]};
+  }
+  Assimp::Exporter exporter;
+  ASSERT_EQ(exporter.Export(&scene, format, path), aiReturn_SUCCESS) << exporter.GetErrorString();
+}
+
+}  // namespace
+
+TEST(MeshImport, ObjQuadsAreTriangulatedAndSeamsWelded) {
+  const std::string path = pleat_test::temp_dir("import_obj") + "/strip.obj";
+  write_seamed_obj(path);
+  ImportedMesh m = import_mesh(path);
+  EXPECT_EQ(m.triangles.rows(), 4);
+  EXPECT_EQ(m.unit_scale, 1.0);
+  Garment g = build_garment(m.vertices, m.triangles, {}, path);
+  EXPECT_EQ(g.report.vertex_count, 6u);
+  EXPECT_EQ(g.report.welded_vertex_count, 2u);
+  EXPECT_EQ(g.report.component_count, 1u);
+  EXPECT_EQ(g.report.boundary_loop_count, 1u);
+  EXPECT_NEAR(g.report.total_area, 2.0, 1e-12);
+
+  GarmentBuildOptions no_weld;
+  no_weld.weld_tolerance = -1.0;
+  Garment split = build_garment(m.vertices, m.triangles, no_weld, path);
+  EXPECT_EQ(split.report.component_count, 2u) << "without welding the seam cuts the strip in two";
+}
+
+TEST(MeshImport, GltfIsMetresAsWritten) {
+  const std::string path = pleat_test::temp_dir("import_gltf") + "/strip.gltf";
+  export_strip(path, "gltf2");
+  ImportedMesh m = import_mesh(path);
+  EXPECT_EQ(m.triangles.rows(), 4);
+  EXPECT_DOUBLE_EQ(m.vertices.col(0).maxCoeff(), 2.0);
+  EXPECT_DOUBLE_EQ(m.vertices.col(1).maxCoeff(), 1.0);
+  Garment g = build_garment(m.vertices, m.triangles, {}, path);
+  EXPECT_EQ(g.report.vertex_count, 6u);
+  EXPECT_NEAR(g.report.total_area, 2.0, 1e-9);
+}
+
+TEST(MeshImport, FbxUnitIsConvertedToMetres) {
+  // assimp writes UnitScaleFactor 1 (centimetres), as Maya does: 2 units = 2 cm.
+  // (ASCII FBX: assimp 5.2 cannot read back its own binary FBX export.)
+  const std::string path = pleat_test::temp_dir("import_fbx") + "/strip.fbx";
+  export_strip(path, "fbxa");
+  ImportedMesh m = import_mesh(path);
+  EXPECT_EQ(m.triangles.rows(), 4);
+  EXPECT_DOUBLE_EQ(m.unit_scale, 0.01);
+  EXPECT_NEAR(m.vertices.col(0).maxCoeff() - m.vertices.col(0).minCoeff(), 0.02, 1e-9);
+  Garment g = build_garment(m.vertices, m.triangles, {}, path);
+  EXPECT_EQ(g.report.vertex_count, 6u);
+}
+
+TEST(MeshImport, UnreadableFilesNameThemselves) {
+  const std::string dir = pleat_test::temp_dir("import_bad");
+  std::ofstream(dir + "/noise.fbx") << "Kaydara FBX Binary  \x00\x1a\x00 truncated";
+  std::ofstream(dir + "/lines.obj") << "v 0 0 0\nv 1 0 0\nl 1 2\n";
+  for (const char* name : {"/noise.fbx", "/lines.obj", "/missing.gltf"}) {
+    try {
+      import_mesh(dir + name);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      EXPECT_TRUE(e.status() == PLEAT_ERROR_FORMAT || e.status() == PLEAT_ERROR_IO ||
+                  e.status() == PLEAT_ERROR_INVALID_MESH)
+          << e.what();
+    }
+  }
+}
