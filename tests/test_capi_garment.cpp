@@ -11,25 +11,15 @@
 #include <thread>
 
 #include "capi/pleat.h"
-#include "support/test_support.h"
+#include "support/capi_support.h"
 
 namespace {
 
-struct GarmentDeleter {
-  void operator()(pleat_garment* g) const { pleat_garment_destroy(g); }
-};
-using Garment = std::unique_ptr<pleat_garment, GarmentDeleter>;
+using Garment = pleat_test::GarmentPtr;
 
 pleat_garment* const kSentinel = reinterpret_cast<pleat_garment*>(0x1);
 
-Garment create(const pleat_test::SimpleMesh& m) {
-  pleat_garment* g = nullptr;
-  EXPECT_EQ(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(), m.triangle_count(),
-                                 nullptr, &g),
-            PLEAT_OK)
-      << pleat_last_error();
-  return Garment(g);
-}
+Garment create(const pleat_test::SimpleMesh& m) { return pleat_test::create_garment(m); }
 
 pleat_mesh_report report_of(const pleat_garment* g) {
   pleat_mesh_report r{};

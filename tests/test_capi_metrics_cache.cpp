@@ -6,23 +6,13 @@
 #include <memory>
 
 #include "capi/pleat.h"
-#include "support/test_support.h"
+#include "support/capi_support.h"
 
 namespace {
 
-struct GarmentDeleter {
-  void operator()(pleat_garment* g) const { pleat_garment_destroy(g); }
-};
-using Garment = std::unique_ptr<pleat_garment, GarmentDeleter>;
+using Garment = pleat_test::GarmentPtr;
 
-Garment create(const pleat_test::SimpleMesh& m) {
-  pleat_garment* g = nullptr;
-  EXPECT_EQ(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(), m.triangle_count(),
-                                 nullptr, &g),
-            PLEAT_OK)
-      << pleat_last_error();
-  return Garment(g);
-}
+Garment create(const pleat_test::SimpleMesh& m) { return pleat_test::create_garment(m); }
 
 pleat_metrics metrics(const pleat_garment* g, const std::vector<float>& pred, const std::vector<float>& truth,
                       size_t frames, uint32_t flags, pleat_status expected = PLEAT_OK) {

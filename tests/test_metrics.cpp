@@ -12,6 +12,7 @@
 #include "metrics/curvature.h"
 #include "metrics/metrics.h"
 #include "metrics/self_collision.h"
+#include "support/expect_error.h"
 #include "support/test_support.h"
 
 namespace pleat {
@@ -46,16 +47,7 @@ std::vector<float> transformed(const std::vector<float>& xyz, const Eigen::Matri
   return out;
 }
 
-void expect_error(const std::function<void()>& fn, pleat_status status, const std::string& part) {
-  try {
-    fn();
-    ADD_FAILURE() << "no error; expected status " << status << " mentioning '" << part << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.status(), status) << e.what();
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-        << "'" << e.what() << "' lacks '" << part << "'";
-  }
-}
+using pleat_test::expect_error;
 
 // A linear projection simple enough to check by hand: low = the mean of the
 // frame's vectors (the constant component), mid = 0, high = the rest.

@@ -13,6 +13,7 @@
 #include "io/atomic_file.h"
 #include "io/obj_writer.h"
 #include "io/point_cache.h"
+#include "support/expect_error.h"
 #include "support/test_support.h"
 
 namespace pleat {
@@ -20,17 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs fn, expects a pleat::Error with `status` whose message contains `part`.
-void expect_error(const std::function<void()>& fn, pleat_status status, const std::string& part) {
-  try {
-    fn();
-    ADD_FAILURE() << "no error; expected status " << status << " mentioning '" << part << "'";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.status(), status) << e.what();
-    EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-        << "'" << e.what() << "' lacks '" << part << "'";
-  }
-}
+using pleat_test::expect_error;
 
 std::vector<std::string> files_in(const std::string& dir) {
   std::vector<std::string> names;

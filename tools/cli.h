@@ -30,6 +30,7 @@ Args parse_args(int argc, char** argv, int first, const std::vector<std::string>
 // Throws CliError with pleat_last_error() if status is not PLEAT_OK.
 void check(pleat_status status, const std::string& what);
 
+pleat_mesh_report report_of(const pleat_garment* garment);
 void print_report(const pleat_mesh_report& report);
 void print_band_info(const pleat_band_info& info);
 // Prints the energy (RMS over vertices) of the rest shape in each band.

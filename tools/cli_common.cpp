@@ -49,6 +49,13 @@ void check(pleat_status status, const std::string& what) {
     throw CliError{what + " failed (" + pleat_status_name(status) + "): " + pleat_last_error()};
 }
 
+pleat_mesh_report report_of(const pleat_garment* garment) {
+  pleat_mesh_report r{};
+  r.struct_size = sizeof r;
+  check(pleat_garment_get_report(garment, &r), "reading the report");
+  return r;
+}
+
 void print_report(const pleat_mesh_report& r) {
   static const char* units[] = {"metres", "centimetres? (use --unit-scale 0.01)",
                                 "millimetres? (use --unit-scale 0.001)"};
@@ -79,9 +86,7 @@ void print_band_info(const pleat_band_info& b) {
 }
 
 void print_rest_band_energies(const pleat_garment* garment) {
-  pleat_mesh_report r{};
-  r.struct_size = sizeof r;
-  check(pleat_garment_get_report(garment, &r), "reading the report");
+  const pleat_mesh_report r = report_of(garment);
   const size_t n = r.vertex_count * size_t{3};
   std::vector<float> rest(n), low(n), mid(n), high(n);
   check(pleat_garment_get_mesh(garment, rest.data(), n, nullptr, 0), "reading the mesh");

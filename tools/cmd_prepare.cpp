@@ -45,10 +45,7 @@ void print_prepared(const pleat_garment* g) {
 
 int run_prepare(const Args& args) {
   GarmentPtr garment = load(args);
-  pleat_mesh_report report{};
-  report.struct_size = sizeof report;
-  check(pleat_garment_get_report(garment.get(), &report), "reading the report");
-  print_report(report);
+  print_report(report_of(garment.get()));
 
   pleat_prepare_options o{};
   o.struct_size = sizeof o;
@@ -72,10 +69,7 @@ int run_prepare(const Args& args) {
 
 int run_inspect(const Args& args) {
   GarmentPtr garment = load(args);
-  pleat_mesh_report report{};
-  report.struct_size = sizeof report;
-  check(pleat_garment_get_report(garment.get(), &report), "reading the report");
-  print_report(report);
+  print_report(report_of(garment.get()));
   print_prepared(garment.get());
   return 0;
 }
