@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config binutils
   libeigen3-dev libsuitesparse-dev libspectra-dev libopenblas-dev
-  libassimp-dev libflatbuffers-dev flatbuffers-compiler libgtest-dev libminizip-dev
+  libassimp-dev libflatbuffers-dev flatbuffers-compiler libgtest-dev libminizip-dev zlib1g-dev
   python3-numpy python3-scipy
 )
 

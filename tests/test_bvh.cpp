@@ -19,7 +19,7 @@ using pleat::BvhOptions;
 
 namespace {
 
-std::string motions_dir() { return pleat_test::source_dir() + "/../shared/data/motions"; }
+std::string motions_dir() { return pleat_test::asset_dir() + "/motions"; }
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -172,7 +172,7 @@ TEST(Bvh, MalformedInputNamesTheLine) {
 
 TEST(Bvh, EverySharedClipLoads) {
   const std::string dir = motions_dir();
-  if (!fs::exists(dir)) GTEST_SKIP() << dir << " not present";
+  if (!fs::exists(dir)) FAIL() << dir << " not present";
   const std::regex frames_re(R"(Frames:\s*(\d+))"), time_re(R"(Frame Time:\s*([0-9.eE+-]+))");
   int files = 0;
   for (const auto& entry : fs::recursive_directory_iterator(dir)) {
@@ -234,7 +234,7 @@ TEST(Bvh, EverySharedClipLoads) {
 
 TEST(Bvh, KnownClipHeaders) {
   const std::string dir = motions_dir();
-  if (!fs::exists(dir)) GTEST_SKIP() << dir << " not present";
+  if (!fs::exists(dir)) FAIL() << dir << " not present";
   const BvhClip a = pleat::read_bvh(dir + "/cmu_mb/01_01.bvh");
   EXPECT_EQ(a.motion.frame_count, 2752);
   EXPECT_DOUBLE_EQ(a.motion.frame_rate, 120.0);

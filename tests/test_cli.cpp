@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "io/point_cache.h"
 #include "support/test_support.h"
 
 namespace {
@@ -46,4 +47,28 @@ TEST(Cli, ErrorsExitNonZeroWithTheReason) {
   EXPECT_NE(text.find("--solver must be one of"), std::string::npos) << text;
   EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " frobnicate 2>&1", &text), 2);
   EXPECT_NE(text.find("unknown command"), std::string::npos) << text;
+}
+
+TEST(Cli, PoseWritesABodyCacheAndRestObj) {
+  const std::string dir = pleat_test::temp_dir("cli_pose");
+  const std::string clip = pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh";
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() + "/body --motion " +
+                                        clip + " --shape height=0.8,gender=1 -o " + dir + "/walk.pc2 --rest-obj " +
+                                        dir + "/rest.obj 2>&1",
+                                    &text),
+            0)
+      << text;
+  // 121 frames at 120 fps resample to 31 frames at 30 fps.
+  const pleat::CacheHeader h = pleat::read_cache_header(dir + "/walk.pc2", pleat::CacheFormat::automatic);
+  EXPECT_EQ(h.frame_count, 31);
+  EXPECT_EQ(h.vertex_count, 13380);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/rest.obj"));
+
+  EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() + "/body --motion " +
+                                        clip + " --shape stature=2 -o " + dir + "/x.pc2 2>&1",
+                                    &text),
+            2);
+  EXPECT_NE(text.find("unknown entry 'stature'"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.pc2"));
 }

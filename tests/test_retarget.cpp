@@ -17,7 +17,7 @@ using pleat::Points3d;
 
 namespace {
 
-std::string motions_dir() { return pleat_test::source_dir() + "/../shared/data/motions"; }
+std::string motions_dir() { return pleat_test::asset_dir() + "/motions"; }
 std::string map_path(const std::string& name) { return pleat_test::source_dir() + "/data/retarget/" + name; }
 
 Motion walk_fixture() {
@@ -215,7 +215,7 @@ TEST(Retarget, MappingFilesParseAndNameRigJoints) {
 
 TEST(Retarget, DazWalkByMappingFile) {
   const std::string path = motions_dir() + "/cmu_daz/02_02.bvh";
-  if (!fs::exists(path)) GTEST_SKIP() << path << " not present";
+  if (!fs::exists(path)) FAIL() << path << " not present";
   const Motion daz = pleat::read_bvh(path).motion;
   const pleat::JointMap map = pleat::read_joint_map(map_path("cmu_daz.txt"));
   pleat::RetargetOptions options;
@@ -250,7 +250,7 @@ TEST(Retarget, DazWalkByMappingFile) {
 TEST(Retarget, ThreeDsMaxAndSimplifiedFamilies) {
   const std::string max_path = motions_dir() + "/cmu_3dsmax/131_01.bvh";
   const std::string other_path = motions_dir() + "/cmu_other/10_01.bvh";
-  if (!fs::exists(max_path) || !fs::exists(other_path)) GTEST_SKIP() << "shared motions not present";
+  if (!fs::exists(max_path) || !fs::exists(other_path)) FAIL() << "shared motions not present";
   const pleat::Skeleton target = cmu_mb_target();
   {
     // 3dsMax rest pose has the arms down; cmu_mb's are in a T pose.

@@ -38,5 +38,6 @@ void print_rest_band_energies(const pleat_garment* garment);
 
 int run_prepare(const Args& args);
 int run_inspect(const Args& args);
+int run_pose(const Args& args);
 
 }  // namespace pleat_cli

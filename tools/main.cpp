@@ -1,4 +1,4 @@
-// `pleat`: prepare and inspect garments (more commands arrive with the runtime).
+// `pleat`: prepare and inspect garments, pose bodies (more arrive with the runtime).
 #include <cstdio>
 #include <cstring>
 
@@ -18,6 +18,12 @@ const char* kUsage =
     "      --geodesic-radius M                  (metres, default 0.10)\n"
     "      --weld-tolerance M --unit-scale S    (load options)\n"
     "  inspect <mesh|file.pleatg>       print the report (and bands, if prepared)\n"
+    "  pose --body B --motion M -o body.pc2   a body driven by a motion, as a point cache\n"
+    "      --body DIR|file.npz|rig.fbx     MakeHuman assets folder, SMPL-layout .npz, rigged mesh\n"
+    "      --rig cmu_mb|default            MakeHuman skeleton (default cmu_mb)\n"
+    "      --shape name=value,...          shape entries (MakeHuman: gender, age, muscle, ...)\n"
+    "      --motion clip.bvh|clip.fbx      --map joints.txt (names differ)  --fps F (30)\n"
+    "      --first N --frames N            frame range  --rest-obj rest.obj  (rest body)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -37,6 +43,7 @@ int main(int argc, char** argv) {
     }
     if (command == "prepare") return run_prepare(parse_args(argc, argv, 2, {}));
     if (command == "inspect") return run_inspect(parse_args(argc, argv, 2, {}));
+    if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {
     std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());

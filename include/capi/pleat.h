@@ -65,6 +65,8 @@ typedef int32_t pleat_status;
 /* ---- Handles ------------------------------------------------------------- */
 
 typedef struct pleat_garment pleat_garment;
+typedef struct pleat_body pleat_body;
+typedef struct pleat_motion pleat_motion;
 
 /* ---- Plain data ---------------------------------------------------------- */
 
@@ -195,6 +197,46 @@ typedef struct pleat_cache_info {
   double start_time;    /* seconds */
 } pleat_cache_info;
 
+/* Body sources (pleat_body_load_options.kind). */
+#define PLEAT_BODY_AUTO 0        /* a folder: MakeHuman assets; .npz: SMPL layout; else a rigged mesh */
+#define PLEAT_BODY_MAKEHUMAN 1   /* the open body model from MakeHuman's CC0 assets folder */
+#define PLEAT_BODY_SMPL_NPZ 2    /* an SMPL-layout .npz (bring your own licensed file) */
+#define PLEAT_BODY_RIGGED_MESH 3 /* any skinned character: FBX, glTF (through assimp) */
+
+/* MakeHuman rigs (pleat_body_load_options.rig). */
+#define PLEAT_RIG_CMU_MB 0              /* 31 joints named like the CMU BVH clips */
+#define PLEAT_RIG_MAKEHUMAN_DEFAULT 1   /* MakeHuman's default 163-bone skeleton */
+
+typedef struct pleat_body_load_options {
+  uint32_t struct_size;
+  uint32_t kind; /* PLEAT_BODY_*; 0 = from the path */
+  uint32_t rig;  /* PLEAT_RIG_*, MakeHuman only; 0 = cmu_mb */
+  uint32_t reserved;
+} pleat_body_load_options;
+
+typedef struct pleat_body_info {
+  uint32_t struct_size;
+  uint32_t vertex_count;
+  uint32_t triangle_count;
+  uint32_t joint_count;
+  uint32_t shape_count;     /* entries of the shape vector (0: fixed shape) */
+  uint32_t max_influences;  /* most joints weighting one vertex */
+} pleat_body_info;
+
+typedef struct pleat_motion_load_options {
+  uint32_t struct_size;
+  uint32_t clip;     /* animation index in an FBX/glTF file; 0 = the first */
+  double unit_scale; /* metres per file unit; 0 = guess (BVH: from the skeleton height) */
+} pleat_motion_load_options;
+
+typedef struct pleat_motion_info {
+  uint32_t struct_size;
+  uint32_t joint_count;
+  uint64_t frame_count;
+  double frame_rate; /* frames per second */
+  double unit_scale; /* metres per file unit that was applied */
+} pleat_motion_info;
+
 /* ---- Library ------------------------------------------------------------- */
 
 /* PLEAT_VERSION_NUMBER of the loaded library. Thread-safe. */
@@ -297,6 +339,89 @@ PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format,
                                             pleat_const_frames positions, size_t frame_count,
                                             size_t vertex_count, double frame_rate);
 
+/* ---- Bodies -------------------------------------------------------------- */
+
+/* Loads a body: the MakeHuman open model from its assets folder (shape =
+   macro sliders, default 0.5), an SMPL-layout .npz (shape = betas, default 0)
+   or a skinned FBX/glTF character (fixed shape). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_body_load(const char* path, const pleat_body_load_options* options,
+                                          pleat_body** out_body);
+
+/* NULL is accepted. Not thread-safe with other calls on the same body. */
+PLEAT_EXPORT void pleat_body_destroy(pleat_body* body);
+
+/* Counts. Thread-safe on a shared body. */
+PLEAT_EXPORT pleat_status pleat_body_get_info(const pleat_body* body, pleat_body_info* out_info);
+
+/* Name of joint `index` or shape entry `index`; NULL when out of range. The
+   string lives as long as the body. Thread-safe on a shared body. */
+PLEAT_EXPORT const char* pleat_body_joint_name(const pleat_body* body, uint32_t index);
+PLEAT_EXPORT const char* pleat_body_shape_name(const pleat_body* body, uint32_t index);
+
+/* Current shape vector (shape_count doubles). Thread-safe on a shared body. */
+PLEAT_EXPORT pleat_status pleat_body_get_shape(const pleat_body* body, double* values, size_t capacity);
+
+/* Reshapes the body (mesh, joints) from shape_count values. Not thread-safe
+   with other calls on this body. */
+PLEAT_EXPORT pleat_status pleat_body_set_shape(pleat_body* body, const double* values, size_t count);
+
+/* Rest mesh (vertex_count xyz), triangles (triangle_count triples) and rest
+   joint positions (joint_count xyz, global); any output may be NULL.
+   Capacities in elements. Thread-safe on a shared body. */
+PLEAT_EXPORT pleat_status pleat_body_get_rest(const pleat_body* body, float* positions, size_t positions_capacity,
+                                              uint32_t* triangles, size_t triangles_capacity, float* joints,
+                                              size_t joints_capacity);
+
+/* Skinned body vertices for frames [first_frame, first_frame + frame_count)
+   of a motion on this body's skeleton (load it, then pleat_motion_retarget).
+   Thread-safe on a shared body and motion. */
+PLEAT_EXPORT pleat_status pleat_body_pose_motion(const pleat_body* body, const pleat_motion* motion,
+                                                 size_t first_frame, size_t frame_count, pleat_frames out);
+
+/* ---- Motions ------------------------------------------------------------- */
+
+/* Loads a motion: BVH, or an animation clip of an FBX/glTF file. Units are
+   converted to metres, Z-up BVH files to Y up. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_motion_load(const char* path, const pleat_motion_load_options* options,
+                                            pleat_motion** out_motion);
+
+/* NULL is accepted. */
+PLEAT_EXPORT void pleat_motion_destroy(pleat_motion* motion);
+
+/* Thread-safe on a shared motion. */
+PLEAT_EXPORT pleat_status pleat_motion_get_info(const pleat_motion* motion, pleat_motion_info* out_info);
+
+/* Name of joint `index`; NULL when out of range. Thread-safe. */
+PLEAT_EXPORT const char* pleat_motion_joint_name(const pleat_motion* motion, uint32_t index);
+
+/* A new motion resampled to frame_rate (quaternion slerp). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_motion_resample(const pleat_motion* motion, double frame_rate,
+                                                pleat_motion** out_motion);
+
+/* A new motion on the body's skeleton: joints paired by equal names, plus
+   those a joint-map file pairs (one "source[|alternative...] target" per
+   line; pleat ships maps for the CMU families, Mixamo and the Unreal
+   mannequin onto the cmu_mb names in data/retarget/). Rest poses are
+   aligned, so a T-posed clip drives an A-posed body; the root path is scaled
+   by the ratio of leg lengths. joint_map_path may be NULL. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_motion_retarget(const pleat_motion* motion, const pleat_body* body,
+                                                const char* joint_map_path, pleat_motion** out_motion);
+
+/* Joint rotations relative to the rest pose as unit quaternions (x, y, z, w)
+   for frame_count * joint_count joints, and root positions (frame_count xyz)
+   of frames [first_frame, first_frame + frame_count). Either output may be
+   NULL; capacities in floats. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_frame,
+                                                  size_t frame_count, float* rotations,
+                                                  size_t rotations_capacity, float* root_positions,
+                                                  size_t root_capacity);
+
+/* ---- Meshes -------------------------------------------------------------- */
+
+/* Writes a triangle mesh as OBJ, atomically. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_mesh_write_obj(const char* path, const float* positions, size_t vertex_count,
+                                               const uint32_t* triangles, size_t triangle_count);
+
 /* ---- Function table for dlopen users ------------------------------------- */
 
 typedef struct pleat_api {
@@ -322,6 +447,23 @@ typedef struct pleat_api {
   pleat_status (*cache_read)(const char*, uint32_t, pleat_frames, size_t);
   pleat_status (*cache_write)(const char*, uint32_t, const pleat_garment*, pleat_const_frames,
                               size_t, size_t, double);
+  pleat_status (*body_load)(const char*, const pleat_body_load_options*, pleat_body**);
+  void (*body_destroy)(pleat_body*);
+  pleat_status (*body_get_info)(const pleat_body*, pleat_body_info*);
+  const char* (*body_joint_name)(const pleat_body*, uint32_t);
+  const char* (*body_shape_name)(const pleat_body*, uint32_t);
+  pleat_status (*body_get_shape)(const pleat_body*, double*, size_t);
+  pleat_status (*body_set_shape)(pleat_body*, const double*, size_t);
+  pleat_status (*body_get_rest)(const pleat_body*, float*, size_t, uint32_t*, size_t, float*, size_t);
+  pleat_status (*body_pose_motion)(const pleat_body*, const pleat_motion*, size_t, size_t, pleat_frames);
+  pleat_status (*motion_load)(const char*, const pleat_motion_load_options*, pleat_motion**);
+  void (*motion_destroy)(pleat_motion*);
+  pleat_status (*motion_get_info)(const pleat_motion*, pleat_motion_info*);
+  const char* (*motion_joint_name)(const pleat_motion*, uint32_t);
+  pleat_status (*motion_resample)(const pleat_motion*, double, pleat_motion**);
+  pleat_status (*motion_retarget)(const pleat_motion*, const pleat_body*, const char*, pleat_motion**);
+  pleat_status (*motion_get_frames)(const pleat_motion*, size_t, size_t, float*, size_t, float*, size_t);
+  pleat_status (*mesh_write_obj)(const char*, const float*, size_t, const uint32_t*, size_t);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/assimp_units.h"
 
 namespace pleat {
 namespace {
@@ -37,16 +38,6 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
   for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], transform, out);
 }
 
-// FBX stores its unit as centimetres per unit ("UnitScaleFactor"); other
-// formats carry no unit and are taken as metres.
-double file_unit_scale(const aiScene* scene) {
-  if (!scene->mMetaData) return 1.0;
-  double factor = 0.0;
-  float factor_f = 0.0f;
-  if (scene->mMetaData->Get("UnitScaleFactor", factor) && factor > 0.0) return factor / 100.0;
-  if (scene->mMetaData->Get("UnitScaleFactor", factor_f) && factor_f > 0.0f) return factor_f / 100.0;
-  return 1.0;
-}
 
 }  // namespace
 
@@ -67,7 +58,7 @@ ImportedMesh import_mesh(const std::string& path) {
   if (c.indices.empty()) fail(PLEAT_ERROR_INVALID_MESH, path + ": the file holds no triangles");
 
   ImportedMesh mesh;
-  mesh.unit_scale = file_unit_scale(scene);
+  mesh.unit_scale = scene_unit_scale(scene);
   mesh.vertices = Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
                   mesh.unit_scale;
   mesh.triangles = Eigen::Map<Triangles>(c.indices.data(), static_cast<Eigen::Index>(c.indices.size() / 3), 3);

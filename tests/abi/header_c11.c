@@ -27,7 +27,24 @@ PIN(pleat_api, metrics_compute, 104);
 PIN(pleat_api, cache_get_info, 112);
 PIN(pleat_api, cache_read, 120);
 PIN(pleat_api, cache_write, 128);
-SIZE(pleat_api, 136);
+PIN(pleat_api, body_load, 136);
+PIN(pleat_api, body_destroy, 144);
+PIN(pleat_api, body_get_info, 152);
+PIN(pleat_api, body_joint_name, 160);
+PIN(pleat_api, body_shape_name, 168);
+PIN(pleat_api, body_get_shape, 176);
+PIN(pleat_api, body_set_shape, 184);
+PIN(pleat_api, body_get_rest, 192);
+PIN(pleat_api, body_pose_motion, 200);
+PIN(pleat_api, motion_load, 208);
+PIN(pleat_api, motion_destroy, 216);
+PIN(pleat_api, motion_get_info, 224);
+PIN(pleat_api, motion_joint_name, 232);
+PIN(pleat_api, motion_resample, 240);
+PIN(pleat_api, motion_retarget, 248);
+PIN(pleat_api, motion_get_frames, 256);
+PIN(pleat_api, mesh_write_obj, 264);
+SIZE(pleat_api, 272);
 
 PIN(pleat_const_frames, data, 0);
 PIN(pleat_const_frames, frame_stride, 8);
@@ -105,3 +122,28 @@ PIN(pleat_cache_info, vertex_count, 16);
 PIN(pleat_cache_info, frame_rate, 24);
 PIN(pleat_cache_info, start_time, 32);
 SIZE(pleat_cache_info, 40);
+
+PIN(pleat_body_load_options, struct_size, 0);
+PIN(pleat_body_load_options, kind, 4);
+PIN(pleat_body_load_options, rig, 8);
+SIZE(pleat_body_load_options, 16);
+
+PIN(pleat_body_info, struct_size, 0);
+PIN(pleat_body_info, vertex_count, 4);
+PIN(pleat_body_info, triangle_count, 8);
+PIN(pleat_body_info, joint_count, 12);
+PIN(pleat_body_info, shape_count, 16);
+PIN(pleat_body_info, max_influences, 20);
+SIZE(pleat_body_info, 24);
+
+PIN(pleat_motion_load_options, struct_size, 0);
+PIN(pleat_motion_load_options, clip, 4);
+PIN(pleat_motion_load_options, unit_scale, 8);
+SIZE(pleat_motion_load_options, 16);
+
+PIN(pleat_motion_info, struct_size, 0);
+PIN(pleat_motion_info, joint_count, 4);
+PIN(pleat_motion_info, frame_count, 8);
+PIN(pleat_motion_info, frame_rate, 16);
+PIN(pleat_motion_info, unit_scale, 24);
+SIZE(pleat_motion_info, 32);

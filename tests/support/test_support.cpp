@@ -88,6 +88,14 @@ std::string source_dir() {
   return dir;
 }
 
+std::string asset_dir() {
+  const char* dir = std::getenv("PLEAT_ASSET_DIR");
+  const std::string path = dir ? dir : source_dir() + "/../shared/data";
+  if (!std::filesystem::is_directory(path + "/body"))
+    throw std::runtime_error("asset pack not found at '" + path + "' (set PLEAT_ASSET_DIR)");
+  return path;
+}
+
 std::string temp_dir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() /
              ("pleat_test_" + name + "_" + std::to_string(::getpid()));

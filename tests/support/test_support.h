@@ -27,8 +27,11 @@ SimpleMesh mirrored_x(const SimpleMesh& m);
 // Subdivided icosahedron projected onto a sphere of the given radius.
 SimpleMesh icosphere(int subdivisions, float radius);
 
-// Repository root (PLEAT_SOURCE_DIR from CTest), and a fresh temp folder.
+// Repository root (PLEAT_SOURCE_DIR from CTest), the asset pack with bodies
+// and motions (PLEAT_ASSET_DIR, by default ../shared/data beside the
+// repository), and a fresh temp folder.
 std::string source_dir();
+std::string asset_dir();
 std::string temp_dir(const std::string& name);
 
 // Runs a shell command; returns its exit status and fills *output with stdout.

@@ -1,0 +1,125 @@
+// C entry points for motions: BVH and FBX/glTF clips, resampling, retargeting.
+#include <cmath>
+#include <filesystem>
+
+#include "body/motion_ops.h"
+#include "capi/firewall.h"
+#include "capi/handles.h"
+#include "io/bvh.h"
+#include "io/rig_import.h"
+
+using namespace pleat;
+using namespace pleat::capi;
+
+namespace {
+
+bool is_bvh(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".bvh";
+}
+
+pleat_motion* load_motion(const std::string& path, const pleat_motion_load_options& o) {
+  require(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
+          "'pleat_motion_load_options.unit_scale' must be finite and >= 0");
+  if (is_bvh(path)) {
+    BvhOptions b;
+    b.scale = o.unit_scale;
+    BvhClip clip = read_bvh(path, b);
+    return new pleat_motion{std::move(clip.motion), clip.conversion.scale};
+  }
+  RigImportOptions r;
+  if (o.unit_scale > 0.0) r.scale = o.unit_scale;
+  ImportedRig rig = import_rig(path, r);
+  if (o.clip >= rig.clips.size())
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": clip " + std::to_string(o.clip) + " requested, the file has " +
+                                           std::to_string(rig.clips.size()) + " animation clip(s)");
+  return new pleat_motion{std::move(rig.clips[o.clip].motion), rig.unit_scale};
+}
+
+}  // namespace
+
+extern "C" {
+
+pleat_status pleat_motion_load(const char* path, const pleat_motion_load_options* options,
+                               pleat_motion** out_motion) {
+  return guarded(__func__, [&] {
+    require_not_null(path, "path");
+    require_not_null(out_motion, "out_motion");
+    *out_motion = load_motion(path, read_options(options, "pleat_motion_load_options"));
+  });
+}
+
+void pleat_motion_destroy(pleat_motion* motion) { delete motion; }
+
+pleat_status pleat_motion_get_info(const pleat_motion* motion, pleat_motion_info* out_info) {
+  return guarded(__func__, [&] {
+    require_not_null(motion, "motion");
+    pleat_motion_info info{};
+    info.struct_size = sizeof info;
+    info.joint_count = static_cast<uint32_t>(motion->motion.skeleton.joint_count());
+    info.frame_count = static_cast<uint64_t>(motion->motion.frame_count);
+    info.frame_rate = motion->motion.frame_rate;
+    info.unit_scale = motion->unit_scale;
+    write_result(info, out_info, "out_info");
+  });
+}
+
+const char* pleat_motion_joint_name(const pleat_motion* motion, uint32_t index) {
+  if (!motion || index >= motion->motion.skeleton.names.size()) return nullptr;
+  return motion->motion.skeleton.names[index].c_str();
+}
+
+pleat_status pleat_motion_resample(const pleat_motion* motion, double frame_rate, pleat_motion** out_motion) {
+  return guarded(__func__, [&] {
+    require_not_null(motion, "motion");
+    require_not_null(out_motion, "out_motion");
+    *out_motion = new pleat_motion{resample_motion(motion->motion, frame_rate), motion->unit_scale};
+  });
+}
+
+pleat_status pleat_motion_retarget(const pleat_motion* motion, const pleat_body* body, const char* joint_map_path,
+                                   pleat_motion** out_motion) {
+  return guarded(__func__, [&] {
+    require_not_null(motion, "motion");
+    require_not_null(body, "body");
+    require_not_null(out_motion, "out_motion");
+    JointMap map;
+    RetargetOptions options;
+    if (joint_map_path) {
+      map = read_joint_map(joint_map_path);
+      options.map = &map;
+    }
+    *out_motion = new pleat_motion{retarget_motion(motion->motion, body->body.skeleton, options), motion->unit_scale};
+  });
+}
+
+pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_frame, size_t frame_count,
+                                     float* rotations, size_t rotations_capacity, float* root_positions,
+                                     size_t root_capacity) {
+  return guarded(__func__, [&] {
+    require_not_null(motion, "motion");
+    const Motion& m = motion->motion;
+    const auto frames = static_cast<size_t>(m.frame_count), joints = static_cast<size_t>(m.skeleton.joint_count());
+    require(first_frame <= frames && frame_count <= frames - first_frame,
+            "frames [" + std::to_string(first_frame) + ", " + std::to_string(first_frame + frame_count) +
+                ") are outside the motion's " + std::to_string(frames));
+    if (rotations && rotations_capacity < frame_count * joints * 4)
+      fail(PLEAT_ERROR_BUFFER_TOO_SMALL, "rotations_capacity is below frame_count * joint_count * 4 = " +
+                                             std::to_string(frame_count * joints * 4));
+    if (root_positions && root_capacity < frame_count * 3)
+      fail(PLEAT_ERROR_BUFFER_TOO_SMALL,
+           "root_capacity is below frame_count * 3 = " + std::to_string(frame_count * 3));
+    for (size_t f = 0; f < frame_count; ++f) {
+      const Eigen::Quaterniond* q = m.frame(static_cast<int64_t>(first_frame + f));
+      if (rotations)
+        for (size_t j = 0; j < joints; ++j)
+          Eigen::Map<Eigen::Vector4f>(rotations + (f * joints + j) * 4) = q[j].coeffs().cast<float>();  // x y z w
+      if (root_positions)
+        Eigen::Map<Eigen::RowVector3f>(root_positions + f * 3) =
+            m.root_translation.row(static_cast<Eigen::Index>(first_frame + f)).cast<float>();
+    }
+  });
+}
+
+}  // extern "C"

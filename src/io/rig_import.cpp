@@ -1,0 +1,363 @@
+#include "io/rig_import.h"
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "core/error.h"
+#include "io/assimp_units.h"
+
+namespace pleat {
+namespace {
+
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) e(r, c) = static_cast<double>(m[r][c]);
+  return e;
+}
+
+Eigen::Quaterniond to_eigen(const aiQuaternion& q) {
+  return Eigen::Quaterniond(static_cast<double>(q.w), static_cast<double>(q.x), static_cast<double>(q.y),
+                            static_cast<double>(q.z));
+}
+
+Eigen::Vector3d to_eigen(const aiVector3D& v) {
+  return Eigen::Vector3d(static_cast<double>(v.x), static_cast<double>(v.y), static_cast<double>(v.z));
+}
+
+// Rotation part of an affine matrix with scale removed (polar decomposition).
+Eigen::Quaterniond rigid_rotation(const Eigen::Matrix4d& m) {
+  Eigen::Affine3d a(m);
+  Eigen::Matrix3d rotation, scaling;
+  a.computeRotationScaling(&rotation, &scaling);
+  return Eigen::Quaterniond(rotation).normalized();
+}
+
+Eigen::Matrix4d global_of(const aiNode* node) {
+  Eigen::Matrix4d g = Eigen::Matrix4d::Identity();
+  for (const aiNode* n = node; n; n = n->mParent) g = to_eigen(n->mTransformation) * g;
+  return g;
+}
+
+struct Instance {
+  const aiMesh* mesh;
+  const aiNode* node;
+};
+
+void collect_instances(const aiScene* scene, const aiNode* node, std::vector<Instance>* out) {
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[i]];
+    if (mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) out->push_back({mesh, node});
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) collect_instances(scene, node->mChildren[c], out);
+}
+
+template <typename Key>
+size_t key_interval(const Key* keys, unsigned count, double tick, double* alpha) {
+  // Index i with keys[i].mTime <= tick < keys[i+1].mTime, clamped; alpha in [0,1].
+  if (count == 1 || tick <= keys[0].mTime) {
+    *alpha = 0.0;
+    return 0;
+  }
+  if (tick >= keys[count - 1].mTime) {
+    *alpha = 1.0;
+    return count - 2;
+  }
+  size_t lo = 0, hi = count - 1;
+  while (hi - lo > 1) {
+    const size_t mid = (lo + hi) / 2;
+    (keys[mid].mTime <= tick ? lo : hi) = mid;
+  }
+  const double span = keys[hi].mTime - keys[lo].mTime;
+  *alpha = span > 0.0 ? (tick - keys[lo].mTime) / span : 0.0;
+  return lo;
+}
+
+Eigen::Quaterniond sample_rotation(const aiNodeAnim* ch, double tick) {
+  double a;
+  const size_t i = key_interval(ch->mRotationKeys, ch->mNumRotationKeys, tick, &a);
+  const Eigen::Quaterniond q0 = to_eigen(ch->mRotationKeys[i].mValue).normalized();
+  if (ch->mNumRotationKeys == 1) return q0;
+  const Eigen::Quaterniond q1 = to_eigen(ch->mRotationKeys[i + 1].mValue).normalized();
+  return q0.slerp(a, q1).normalized();
+}
+
+Eigen::Vector3d sample_position(const aiNodeAnim* ch, double tick) {
+  double a;
+  const size_t i = key_interval(ch->mPositionKeys, ch->mNumPositionKeys, tick, &a);
+  const Eigen::Vector3d p0 = to_eigen(ch->mPositionKeys[i].mValue);
+  if (ch->mNumPositionKeys == 1) return p0;
+  return (1.0 - a) * p0 + a * to_eigen(ch->mPositionKeys[i + 1].mValue);
+}
+
+}  // namespace
+
+ImportedRig import_rig(const std::string& path, const RigImportOptions& options) {
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale))
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": scale must be positive and finite");
+  if (!(options.frame_rate >= 0.0) || !std::isfinite(options.frame_rate))
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": frame_rate must be >= 0 (0 = the key rate)");
+  {
+    std::ifstream probe(path, std::ios::binary);
+    if (!probe || std::filesystem::is_directory(path)) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
+  }
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
+  if (!scene || !scene->mRootNode)
+    fail(PLEAT_ERROR_FORMAT, path + ": cannot read the file: " + importer.GetErrorString());
+
+  ImportedRig rig;
+  rig.unit_scale = scene_unit_scale(scene) * options.scale;
+  Eigen::Matrix4d unit = Eigen::Matrix4d::Identity();
+  unit.topLeftCorner<3, 3>() *= rig.unit_scale;
+
+  std::vector<Instance> instances;
+  collect_instances(scene, scene->mRootNode, &instances);
+  if (instances.empty()) fail(PLEAT_ERROR_FORMAT, path + ": the file holds no triangle mesh");
+
+  // Bone nodes, their lowest common ancestor, and the joints between.
+  std::vector<const aiNode*> bone_nodes;
+  std::map<std::string, const aiNode*> bone_by_name;
+  for (const Instance& in : instances)
+    for (unsigned b = 0; b < in.mesh->mNumBones; ++b) {
+      const std::string name = in.mesh->mBones[b]->mName.C_Str();
+      if (bone_by_name.count(name)) continue;
+      const aiNode* node = scene->mRootNode->FindNode(in.mesh->mBones[b]->mName);
+      if (!node) fail(PLEAT_ERROR_FORMAT, path + ": bone '" + name + "' has no node in the hierarchy");
+      bone_by_name[name] = node;
+      bone_nodes.push_back(node);
+    }
+  if (bone_nodes.empty())
+    fail(PLEAT_ERROR_FORMAT, path + ": the meshes carry no bones (not a skinned character)");
+  auto ancestry = [](const aiNode* n) {
+    std::vector<const aiNode*> chain;
+    for (; n; n = n->mParent) chain.push_back(n);
+    std::reverse(chain.begin(), chain.end());
+    return chain;  // scene root first
+  };
+  std::vector<const aiNode*> common = ancestry(bone_nodes[0]);
+  for (const aiNode* b : bone_nodes) {
+    const auto chain = ancestry(b);
+    size_t k = 0;
+    while (k < common.size() && k < chain.size() && common[k] == chain[k]) ++k;
+    common.resize(k);
+  }
+  const aiNode* root = common.back();
+  std::set<const aiNode*> joint_set;
+  for (const aiNode* b : bone_nodes)
+    for (const aiNode* n = b; n; n = n->mParent) {
+      joint_set.insert(n);
+      if (n == root) break;
+    }
+  std::vector<const aiNode*> joints;
+  std::vector<int32_t> parents;
+  std::vector<std::pair<const aiNode*, int32_t>> stack{{root, -1}};
+  while (!stack.empty()) {
+    auto [n, parent] = stack.back();
+    stack.pop_back();
+    joints.push_back(n);
+    parents.push_back(parent);
+    const auto me = static_cast<int32_t>(joints.size() - 1);
+    for (unsigned c = n->mNumChildren; c-- > 0;)
+      if (joint_set.count(n->mChildren[c])) stack.push_back({n->mChildren[c], me});
+  }
+  std::map<const aiNode*, int32_t> joint_of;
+  for (size_t j = 0; j < joints.size(); ++j) joint_of[joints[j]] = static_cast<int32_t>(j);
+
+  // Rest (node hierarchy) world transforms and the rigid skeleton.
+  const auto n = static_cast<int32_t>(joints.size());
+  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world(static_cast<size_t>(n));
+  Skeleton& s = rig.body.skeleton;
+  s.rest_translation.resize(n, 3);
+  Quaternions global_rotation(static_cast<size_t>(n));
+  for (int32_t j = 0; j < n; ++j) {
+    world[j] = unit * global_of(joints[j]);
+    if (!world[j].allFinite())
+      fail(PLEAT_ERROR_INVALID_ARGUMENT,
+           path + ": node '" + std::string(joints[j]->mName.C_Str()) + "' has a non-finite transform");
+    global_rotation[j] = rigid_rotation(world[j]);
+    s.names.push_back(joints[j]->mName.C_Str());
+    s.parents.push_back(parents[j]);
+    const Eigen::Vector3d p = world[j].block<3, 1>(0, 3);
+    if (j == 0) {
+      s.rest_translation.row(0) = p.transpose();
+      s.rest_rotation.push_back(global_rotation[0]);
+    } else {
+      const int32_t q = parents[j];
+      const Eigen::Quaterniond inv = global_rotation[q].conjugate();
+      s.rest_translation.row(j) = (inv * (p - Eigen::Vector3d(world[q].block<3, 1>(0, 3)))).transpose();
+      s.rest_rotation.push_back((inv * global_rotation[j]).normalized());
+    }
+  }
+  validate_skeleton(s, path);
+
+  // Rest mesh and weights.
+  std::vector<double> xyz;
+  std::vector<int32_t> tri;
+  SkinWeights& w = rig.body.weights;
+  w.joint_count = n;
+  w.offsets.assign(1, 0);
+  for (const Instance& in : instances) {
+    const aiMesh* mesh = in.mesh;
+    const auto base = static_cast<int32_t>(xyz.size() / 3);
+    std::vector<std::vector<std::pair<int32_t, double>>> influences(mesh->mNumVertices);
+    std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> skin(mesh->mNumBones);
+    for (unsigned b = 0; b < mesh->mNumBones; ++b) {
+      const aiBone* bone = mesh->mBones[b];
+      const int32_t j = joint_of.at(bone_by_name.at(bone->mName.C_Str()));
+      skin[b] = world[j] * to_eigen(bone->mOffsetMatrix);
+      for (unsigned k = 0; k < bone->mNumWeights; ++k) {
+        const aiVertexWeight& vw = bone->mWeights[k];
+        if (vw.mVertexId >= mesh->mNumVertices)
+          fail(PLEAT_ERROR_FORMAT, path + ": bone '" + std::string(bone->mName.C_Str()) + "' weighs vertex " +
+                                       std::to_string(vw.mVertexId) + " of " +
+                                       std::to_string(mesh->mNumVertices));
+        if (!std::isfinite(vw.mWeight) || vw.mWeight < 0.0f)
+          fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": bone '" + std::string(bone->mName.C_Str()) +
+                                                 "' has a bad weight for vertex " +
+                                                 std::to_string(vw.mVertexId));
+        if (vw.mWeight > 0.0f) influences[vw.mVertexId].push_back({static_cast<int32_t>(b), vw.mWeight});
+      }
+    }
+    // Rigid fallback joint: the mesh node itself or its nearest joint ancestor.
+    int32_t rigid = 0;
+    for (const aiNode* a = in.node; a; a = a->mParent)
+      if (joint_of.count(a)) {
+        rigid = joint_of[a];
+        break;
+      }
+    const Eigen::Matrix4d mesh_world = unit * global_of(in.node);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const Eigen::Vector4d p(mesh->mVertices[v].x, mesh->mVertices[v].y, mesh->mVertices[v].z, 1.0);
+      if (!p.allFinite())
+        fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": mesh '" + std::string(mesh->mName.C_Str()) +
+                                               "' vertex " + std::to_string(v) + " is not finite");
+      const auto& inf = influences[v];
+      double total = 0.0;
+      for (const auto& [b, x] : inf) total += x;
+      Eigen::Vector4d rest = Eigen::Vector4d::Zero();
+      if (total > 0.0) {
+        for (const auto& [b, x] : inf) {
+          rest += (x / total) * (skin[static_cast<size_t>(b)] * p);
+          w.joints.push_back(joint_of.at(bone_by_name.at(mesh->mBones[b]->mName.C_Str())));
+          w.weights.push_back(x);
+        }
+      } else {
+        rest = mesh_world * p;
+        rig.unweighted_vertices.push_back(base + static_cast<int32_t>(v));
+        w.joints.push_back(rigid);
+        w.weights.push_back(1.0);
+      }
+      w.offsets.push_back(static_cast<int32_t>(w.joints.size()));
+      xyz.insert(xyz.end(), {rest.x(), rest.y(), rest.z()});
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      for (int c = 0; c < 3; ++c) tri.push_back(base + static_cast<int32_t>(face.mIndices[c]));
+    }
+  }
+  if (tri.empty()) fail(PLEAT_ERROR_FORMAT, path + ": the file holds no triangles");
+  normalize_skin_weights(&w, path);
+  rig.body.source = path;
+  rig.body.rest.vertices = Eigen::Map<Points3d>(xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
+  rig.body.rest.triangles = Eigen::Map<Triangles>(tri.data(), static_cast<Eigen::Index>(tri.size() / 3), 3);
+  validate_body(rig.body, path);
+
+  // Clips.
+  const aiNode* above_root = root->mParent;
+  const Eigen::Matrix4d above = above_root ? Eigen::Matrix4d(unit * global_of(above_root)) : unit;
+  const Eigen::Quaterniond above_rotation = rigid_rotation(above);
+  for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
+    const aiAnimation* anim = scene->mAnimations[a];
+    ImportedClip clip;
+    clip.name = anim->mName.C_Str();
+    if (clip.name.empty()) clip.name = "clip" + std::to_string(a);
+    const std::string where = path + ": clip '" + clip.name + "'";
+    const double tps = anim->mTicksPerSecond > 0.0 ? anim->mTicksPerSecond : 25.0;
+    std::vector<const aiNodeAnim*> channel(static_cast<size_t>(n), nullptr);
+    std::vector<double> times;
+    double last = anim->mDuration > 0.0 ? anim->mDuration : 0.0;
+    for (unsigned c = 0; c < anim->mNumChannels; ++c) {
+      const aiNodeAnim* ch = anim->mChannels[c];
+      const int32_t j = s.find(ch->mNodeName.C_Str());
+      if (j < 0) {
+        clip.ignored_channels.push_back(ch->mNodeName.C_Str());
+        continue;
+      }
+      channel[static_cast<size_t>(j)] = ch;
+      for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) {
+        if (!std::isfinite(ch->mRotationKeys[k].mTime) ||
+            !to_eigen(ch->mRotationKeys[k].mValue).coeffs().allFinite() ||
+            to_eigen(ch->mRotationKeys[k].mValue).norm() < 1e-12)
+          fail(PLEAT_ERROR_INVALID_ARGUMENT, where + ": joint '" + s.names[j] + "' rotation key " +
+                                                 std::to_string(k) + " is not a finite rotation");
+        times.push_back(ch->mRotationKeys[k].mTime);
+      }
+      for (unsigned k = 0; k < (j == 0 ? ch->mNumPositionKeys : 0u); ++k) {
+        if (!std::isfinite(ch->mPositionKeys[k].mTime) || !to_eigen(ch->mPositionKeys[k].mValue).allFinite())
+          fail(PLEAT_ERROR_INVALID_ARGUMENT,
+               where + ": root position key " + std::to_string(k) + " is not finite");
+        times.push_back(ch->mPositionKeys[k].mTime);
+      }
+    }
+    for (double t : times) last = std::max(last, t);
+    std::sort(times.begin(), times.end());
+    double rate = options.frame_rate;
+    if (rate <= 0.0) {
+      double step = 0.0;
+      for (size_t k = 1; k < times.size(); ++k) {
+        const double d = (times[k] - times[k - 1]) / tps;
+        if (d > 1e-6 && (step == 0.0 || d < step)) step = d;
+      }
+      rate = step > 0.0 ? std::min(240.0, 1.0 / step) : 30.0;
+      if (std::abs(rate - std::round(rate)) < 1e-3) rate = std::round(rate);
+    }
+    clip.duration_seconds = last / tps;
+    const auto frames = static_cast<int64_t>(std::floor(clip.duration_seconds * rate + 1e-6)) + 1;
+    Motion& m = clip.motion;
+    m.skeleton = s;
+    m.frame_rate = rate;
+    m.frame_count = frames;
+    m.rotations.resize(static_cast<size_t>(frames * n));
+    m.root_translation.resize(frames, 3);
+    for (int64_t f = 0; f < frames; ++f) {
+      const double tick = static_cast<double>(f) / rate * tps;
+      Eigen::Quaterniond* out = m.rotations.data() + f * n;
+      for (int32_t j = 0; j < n; ++j) {
+        const aiNodeAnim* ch = channel[static_cast<size_t>(j)];
+        if (!ch || ch->mNumRotationKeys == 0) {
+          out[j] = Eigen::Quaterniond::Identity();
+          continue;
+        }
+        Eigen::Quaterniond local = sample_rotation(ch, tick);
+        if (j == 0) local = above_rotation * local;
+        out[j] = (s.rest_rotation[static_cast<size_t>(j)].conjugate() * local).normalized();
+      }
+      const aiNodeAnim* rc = channel[0];
+      if (rc && rc->mNumPositionKeys > 0) {
+        const Eigen::Vector3d local = sample_position(rc, tick);
+        m.root_translation.row(f) =
+            (above * Eigen::Vector4d(local.x(), local.y(), local.z(), 1.0)).head<3>().transpose();
+      } else {
+        m.root_translation.row(f) = s.rest_translation.row(0);
+      }
+    }
+    rig.clips.push_back(std::move(clip));
+  }
+  return rig;
+}
+
+}  // namespace pleat
