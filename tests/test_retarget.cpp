@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
+#include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "core/error.h"
 #include "io/bvh.h"
@@ -183,6 +185,26 @@ TEST(Retarget, WalkOntoSmallerAPosedSkeletonKeepsFeet) {
     EXPECT_LT(max_bone_angle(m, r, s + "UpLeg", s + "Leg", s + "UpLeg", s + "Leg"), 1e-4) << side;
   }
   EXPECT_LT(max_bone_angle(m, r, "Spine1", "Head", "Spine1", "Head"), 1e-4);
+}
+
+TEST(Retarget, WalkOntoTheMakeHumanBodyFollowsTheSourceFeet) {
+  // The product path: a CMU walk onto the open body model's A-posed cmu_mb
+  // skeleton (other proportions than subject 12). After scaling by the leg
+  // ratio the ankles follow the source's trajectories to a few centimetres.
+  const Motion m = walk_fixture();
+  const auto model = pleat::MakeHumanModel::load(pleat_test::asset_dir() + "/body");
+  const pleat::Body body = model->body(pleat::makehuman_default_beta());
+  pleat::RetargetReport report;
+  const Motion r = pleat::retarget_motion(m, body.skeleton, {}, &report);
+  EXPECT_GT(report.root_scale, 0.5);
+  EXPECT_LT(report.root_scale, 1.5);
+  for (const char* foot : {"LeftFoot", "RightFoot"}) {
+    const FootError e = foot_error(m, r, foot, foot, report.root_scale);
+    std::printf("%s: max %.4f m, vertical %.4f m, from mean %.4f m (root scale %.3f)\n", foot, e.max,
+                e.max_vertical, e.max_from_mean, report.root_scale);
+    EXPECT_LT(e.max_from_mean, 0.05) << foot << ": trajectory shape";
+    EXPECT_LT(e.max_vertical, 0.05) << foot << ": height over the ground";
+  }
 }
 
 TEST(Retarget, UnmappedTargetJointStaysAtRest) {
