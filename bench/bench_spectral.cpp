@@ -1,4 +1,5 @@
 // Band basis preparation per solver and band split throughput.
+// The 20k hybrid run takes over 10 minutes (see docs/spectral.md).
 // Usage: bench_spectral [--quick | --large-only] [obj files...]  (prints medians)
 // --quick skips the 20k mesh; --large-only runs only the 20k mesh.
 #include <algorithm>

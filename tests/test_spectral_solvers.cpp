@@ -10,6 +10,7 @@
 #include "spectral/eigen_pairs.h"
 #include "spectral/eigensolver.h"
 #include "spectral/laplacian.h"
+#include "spectral/slicing_solver.h"
 #include "spectral/spectral_test_graphs.h"
 
 namespace {
@@ -106,6 +107,23 @@ TEST(SpectralSolvers, ResidualsAreTight) {
     const pleat::EigenPairs pairs = pleat::solve_lowest(laplacian, 140, kind);
     EXPECT_LT(pleat::max_residual(laplacian, pairs), pleat::kResidualTolerance)
         << static_cast<int>(kind);
+  }
+}
+
+TEST(SpectralSolvers, SlicingIsIdenticalForAnyWorkerCount) {
+  // Several slices (and mirrored, repeated eigenvalues) so that workers
+  // really interleave; the result must match bit for bit.
+  const Case c = mirrored_panels();
+  const auto laplacian = pleat::normalized_laplacian(c.graph);
+  const int count = 5 * pleat::kSliceSize;
+  const pleat::EigenPairs one = pleat::solve_slicing(laplacian, count, 1);
+  EXPECT_LT(pleat::max_residual(laplacian, one), pleat::kResidualTolerance);
+  for (int workers : {2, 3}) {
+    const pleat::EigenPairs many = pleat::solve_slicing(laplacian, count, workers);
+    SCOPED_TRACE(workers);
+    ASSERT_EQ(many.values.size(), count);
+    EXPECT_TRUE(many.values == one.values);
+    EXPECT_TRUE(many.vectors == one.vectors);
   }
 }
 

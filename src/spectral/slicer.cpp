@@ -45,9 +45,7 @@ class DeflatedShiftInvert {
     buffer_ = x;
     project(&buffer_);
     ldlt_.solve(buffer_.data(), y_out);
-    Eigen::VectorXd yv = y;
-    project(&yv);
-    y = yv;
+    if (deflate_.cols() > 0) y -= deflate_ * (deflate_.transpose() * y);
   }
   void project(Eigen::VectorXd* v) const {
     if (deflate_.cols() > 0) *v -= deflate_ * (deflate_.transpose() * *v);
@@ -83,15 +81,27 @@ Shift Slicer::count_below(double sigma) {
 Shift Slicer::place_boundary(Shift lo, Shift hi, int target, int slack, double guess) {
   if (hi.below >= target && hi.below <= target + slack) return hi;
   const double aim = target + 0.5 * slack;
+  const Shift start = lo;
+  bool hi_is_local = false;  // hi came from this search, not a far-away caller bracket
   double sigma = guess;
   for (int step = 0; step < 200; ++step) {
     const double width = hi.sigma - lo.sigma;
     if (width < 1e-10) return hi;  // a cluster larger than the slack straddles the target
-    if (step > 0 || !(sigma > lo.sigma + 0.05 * width && sigma < hi.sigma - 0.05 * width)) {
+    // The caller's guess only has to lie inside the bracket: a margin
+    // relative to a bracket reaching the top of the spectrum would reject
+    // every guess near the bottom (it did: ~3 factorisations per boundary).
+    if (step > 0 || !(sigma > lo.sigma && sigma < hi.sigma)) {
       // Interpolate the counting function, kept 5% inside the bracket so
       // the bracket shrinks every step even where the density is skewed.
-      const double t = (aim - lo.below) / std::max(1, hi.below - lo.below);
-      sigma = lo.sigma + std::clamp(t, 0.05, 0.95) * width;
+      double t = std::clamp((aim - lo.below) / std::max(1, hi.below - lo.below), 0.05, 0.95);
+      if (!hi_is_local && lo.below > start.below) {
+        // The upper end is still the caller's: extrapolate the density
+        // between start and lo instead of a chord to the far end. Every
+        // step raises lo or makes hi local, so the search still terminates.
+        const double local = (lo.sigma - start.sigma) / (lo.below - start.below);
+        t = std::clamp((aim - lo.below) * local / width, 1e-6, 0.95);
+      }
+      sigma = lo.sigma + t * width;
     }
     const Shift s = count_below(sigma);
     if (s.below >= target && s.below <= target + slack) return s;
@@ -99,6 +109,7 @@ Shift Slicer::place_boundary(Shift lo, Shift hi, int target, int slack, double g
       lo = s;
     } else {
       hi = s;
+      hi_is_local = true;
     }
   }
   fail(PLEAT_ERROR_NUMERICAL, "could not place a slice boundary with " + std::to_string(target) +
@@ -125,7 +136,10 @@ EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::s
     const int available = n - static_cast<int>(deflate.cols());
     const int nev = std::min(missing + std::max(kMinExtraPairs, missing / 4), available - 1);
     if (nev < 1) break;
-    const int ncv = std::min(available, std::max(2 * nev + 1, nev + 24));
+    // ncv = 1.5 nev (not Spectra's usual 2 nev): more restarts, but each
+    // Lanczos step reorthogonalises against fewer vectors; measured ~5 %
+    // faster for 40-100 pairs a slice.
+    const int ncv = std::min(available, std::max(nev + nev / 2 + 1, nev + 24));
     Eigen::VectorXd start = Eigen::VectorXd::NullaryExpr(n, [&]() { return normal(rng); });
     op.project(&start);
     Spectra::SymEigsShiftSolver<DeflatedShiftInvert> eigs(op, nev, ncv, centre.sigma);
@@ -179,7 +193,9 @@ EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian,
     all.vectors.middleCols(at, s.values.size()) = s.vectors;
     at += s.values.size();
   }
-  sort_pairs(&all);
+  // Slices arrive ascending and disjoint; sorting (a full copy) is only a
+  // safeguard.
+  if (!std::is_sorted(all.values.data(), all.values.data() + total)) sort_pairs(&all);
   for (double boundary : boundaries) {
     Eigen::Index first = 0;
     while (first < total && all.values[first] < boundary - kBoundaryWindow) ++first;

@@ -1,32 +1,21 @@
 #include "spectral/slicing_solver.h"
 
-#include <algorithm>
-#include <string>
-#include <vector>
-
+#include "spectral/blas_threads.h"
+#include "spectral/slice_planner.h"
+#include "spectral/slice_pool.h"
 #include "spectral/slicer.h"
 
 namespace pleat {
 
 EigenPairs solve_slicing(const Eigen::SparseMatrix<double>& laplacian, int count) {
-  Slicer slicer(laplacian);
-  Shift lo = slicer.count_below(kShiftBelowSpectrum);
-  std::vector<EigenPairs> slices;
-  std::vector<double> boundaries;
-  double width_per_pair = 0.0;  // from the previous slice: a first guess for the next boundary
-  while (lo.below < count) {
-    const int remaining = count - lo.below;
-    // A short tail joins the last slice rather than forming a tiny one.
-    const int target = remaining <= kSliceSize * 3 / 2 ? count : lo.below + kSliceSize;
-    const double guess = lo.sigma + width_per_pair * (target - lo.below + kSliceSize / 8);
-    const Shift hi = slicer.place_boundary(lo, slicer.top(), target, kSliceSize / 4, guess);
-    const std::string label = "slice " + std::to_string(slices.size());
-    if (!slices.empty()) boundaries.push_back(lo.sigma);
-    slices.push_back(slicer.solve_interval(lo, hi, label));
-    width_per_pair = (hi.sigma - std::max(lo.sigma, 0.0)) / std::max(1, hi.below - lo.below);
-    lo = hi;
-  }
-  EigenPairs pairs = merge_slices(laplacian, slices, boundaries);
+  return solve_slicing(laplacian, count, default_slice_workers());
+}
+
+EigenPairs solve_slicing(const Eigen::SparseMatrix<double>& laplacian, int count, int workers) {
+  const SingleThreadedBlas blas;  // the slices are the parallelism
+  SlicePlanner planner(laplacian, count, kSliceSize);
+  const SolvedSlices solved = solve_slices(laplacian, &planner, workers);
+  EigenPairs pairs = merge_slices(laplacian, solved.slices, solved.boundaries);
   truncate_pairs(&pairs, count);
   return pairs;
 }
