@@ -7,12 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+#include "core/garment.h"
 #include "core/topology.h"
+#include "io/mesh_import.h"
 #include "spectral/band_split.h"
 #include "spectral/bands.h"
 
@@ -70,33 +71,20 @@ Mesh garment(int scale) {  // scale 1: 5000 vertices, scale 2: 20000
   return m;
 }
 
-// Quad/polygon OBJ: vertex positions and the edges of every face.
-bool read_obj(const std::string& path, Mesh* mesh) {
-  std::ifstream in(path);
-  if (!in) return false;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") {
-      float x, y, z;
-      s >> x >> y >> z;
-      mesh->positions.insert(mesh->positions.end(), {x, y, z});
-    } else if (tag == "f") {
-      std::vector<int32_t> face;
-      std::string corner;
-      while (s >> corner) face.push_back(std::stoi(corner.substr(0, corner.find('/'))) - 1);
-      for (size_t k = 0; k < face.size(); ++k) {
-        const int32_t a = face[k], b = face[(k + 1) % face.size()];
-        if (a != b) mesh->edges.push_back({std::min(a, b), std::max(a, b)});
-      }
-    }
+// A garment file through the project's own loader (welded, triangulated).
+bool read_garment(const std::string& path, Mesh* mesh) {
+  try {
+    const pleat::ImportedMesh imported = pleat::import_mesh(path);
+    const pleat::Garment g = pleat::build_garment(imported.vertices, imported.triangles, {}, path);
+    mesh->edges = g.edges;
+    mesh->vertex_count = g.rest.vertex_count();
+    const pleat::Points3f x = g.rest.vertices.cast<float>();
+    mesh->positions.assign(x.data(), x.data() + x.size());
+    return true;
+  } catch (const pleat::Error& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return false;
   }
-  mesh->vertex_count = static_cast<int32_t>(mesh->positions.size() / 3);
-  std::sort(mesh->edges.begin(), mesh->edges.end());
-  mesh->edges.erase(std::unique(mesh->edges.begin(), mesh->edges.end()), mesh->edges.end());
-  return true;
 }
 
 const char* solver_name(pleat::SolverKind k) {
@@ -169,7 +157,7 @@ void run_small(const std::vector<std::string>& objs) {
   bench_split("synthetic-5k", dense, small);
   for (const std::string& path : objs) {
     Mesh mesh;
-    if (!read_obj(path, &mesh)) {
+    if (!read_garment(path, &mesh)) {
       std::printf("cannot read %s\n", path.c_str());
       continue;
     }
