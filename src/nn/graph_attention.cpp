@@ -1,0 +1,590 @@
+#include "nn/graph_attention.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pleat::nn {
+
+namespace {
+
+constexpr const char* kKind = "graph attention layer";
+
+const char* variant_name(AttentionVariant v) {
+  switch (v) {
+    case AttentionVariant::gat:
+      return "gat";
+    case AttentionVariant::lgat:
+      return "lgat";
+    case AttentionVariant::flexigat:
+      return "flexigat";
+  }
+  return "?";
+}
+
+using Packet = Eigen::Array<float, 4, 1>;
+using ConstPacketMap = Eigen::Map<const Packet>;
+
+// The weighted sum of one destination row when d' is a multiple of 4: the
+// row is walked in blocks of four 4-float vectors held in registers across
+// all edges (no load/store of the output per edge). Same operation order per
+// element as the scalar path: edges in CSR order (heads in order within an
+// edge for mean), then the self term, then the bias.
+template <bool kConcat>
+inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb,
+                               const float* z, Index zstride, const float* zi, const float* a,
+                               const float* neighbour_coefficient, const float* self_coefficient,
+                               const float* bias, float* row) {
+  const Index out_vectors = (kConcat ? heads * d : d) / 4;
+  // Column offset in z and head of output vector u (concat: head = col / d;
+  // mean: every head contributes, offset h*d added below).
+  Index v = 0;
+  for (; v + 4 <= out_vectors; v += 4) {
+    Packet acc[4] = {Packet::Zero(), Packet::Zero(), Packet::Zero(), Packet::Zero()};
+    int32_t head[4];
+    for (int u = 0; u < 4; ++u) head[u] = kConcat ? static_cast<int32_t>((v + u) * 4 / d) : 0;
+    for (int32_t e = 0; e < degree; ++e) {
+      const float* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const float* ae = a + static_cast<Index>(e) * heads;
+      if constexpr (kConcat) {
+        if (head[0] == head[3]) {  // d' % 16 == 0: one coefficient for the block
+          const float c = neighbour_coefficient[head[0]] * ae[head[0]];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap(zj + 4 * u);
+        } else {
+          for (int u = 0; u < 4; ++u)
+            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstPacketMap(zj + 4 * u);
+        }
+      } else {
+        for (int32_t h = 0; h < heads; ++h) {
+          const float c = neighbour_coefficient[h] * ae[h];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap(zj + h * d + 4 * u);
+        }
+      }
+    }
+    if (self_coefficient != nullptr) {
+      const float* zs = zi + v * 4;
+      if constexpr (kConcat) {
+        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstPacketMap(zs + 4 * u);
+      } else {
+        for (int32_t h = 0; h < heads; ++h)
+          for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[h] * ConstPacketMap(zs + h * d + 4 * u);
+      }
+    }
+    if (bias != nullptr)
+      for (int u = 0; u < 4; ++u) acc[u] += ConstPacketMap(bias + v * 4 + 4 * u);
+    for (int u = 0; u < 4; ++u) Eigen::Map<Packet>(row + v * 4 + 4 * u) = acc[u];
+  }
+  for (; v < out_vectors; ++v) {
+    Packet acc = Packet::Zero();
+    const int32_t hv = kConcat ? static_cast<int32_t>(v * 4 / d) : 0;
+    for (int32_t e = 0; e < degree; ++e) {
+      const float* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const float* ae = a + static_cast<Index>(e) * heads;
+      if constexpr (kConcat) {
+        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap(zj);
+      } else {
+        for (int32_t h = 0; h < heads; ++h) acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
+      }
+    }
+    if (self_coefficient != nullptr) {
+      if constexpr (kConcat) {
+        acc += self_coefficient[hv] * ConstPacketMap(zi + v * 4);
+      } else {
+        for (int32_t h = 0; h < heads; ++h) acc += self_coefficient[h] * ConstPacketMap(zi + v * 4 + h * d);
+      }
+    }
+    if (bias != nullptr) acc += ConstPacketMap(bias + v * 4);
+    Eigen::Map<Packet>(row + v * 4) = acc;
+  }
+}
+
+// Attention coefficients of destination i for all its edges, written to
+// a[e * heads + h]: raw logits s_h.v_i + t_h.v_j (LGAT: times 1 / divisor),
+// LeakyReLU as max(x, 0) + slope * min(x, 0) with SIMD max/min (a scalar
+// select compiles to a branch that mispredicts on every other edge), then a
+// max-shifted softmax per head. Generic head count.
+template <bool kLipschitz>
+inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t i, int32_t degree,
+                           const int32_t* nb, const float* z, Index zstride, Index width,
+                           const float* norms, float* a, float* lipschitz_denominator) {
+  const float* self_score = z + static_cast<Index>(i) * zstride + width;
+  float inverse_denominator[kMaxAttentionHeads];
+  if constexpr (kLipschitz) {
+    float largest[kMaxAttentionHeads];
+    for (int32_t h = 0; h < heads; ++h) largest[h] = 0.0f;
+    for (int32_t e = 0; e < degree; ++e) {
+      const float* nj = norms + static_cast<Index>(nb[e]) * heads;
+      for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], nj[h]);
+    }
+    for (int32_t h = 0; h < heads; ++h) {
+      const float den = params.self_norm[h] * norms[static_cast<Index>(i) * heads + h] +
+                        params.neighbour_norm[h] * largest[h] + params.lipschitz_epsilon;
+      if (lipschitz_denominator != nullptr) lipschitz_denominator[static_cast<Index>(i) * heads + h] = den;
+      inverse_denominator[h] = 1.0f / den;
+    }
+  }
+  for (int32_t e = 0; e < degree; ++e) {
+    const float* t = z + static_cast<Index>(nb[e]) * zstride + width + heads;
+    float* ae = a + static_cast<Index>(e) * heads;
+    for (int32_t h = 0; h < heads; ++h) {
+      if constexpr (kLipschitz)
+        ae[h] = (self_score[h] + t[h]) * inverse_denominator[h];
+      else
+        ae[h] = self_score[h] + t[h];
+    }
+  }
+  const float slope = params.negative_slope;
+  Eigen::Map<Eigen::ArrayXf> block(a, static_cast<Index>(degree) * heads);
+  block = block.max(0.0f) + slope * block.min(0.0f);
+  float largest[kMaxAttentionHeads];
+  for (int32_t h = 0; h < heads; ++h) largest[h] = a[h];
+  for (int32_t e = 1; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], a[e * heads + h]);
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) a[e * heads + h] -= largest[h];
+  block = block.exp();
+  float inverse_sum[kMaxAttentionHeads];
+  for (int32_t h = 0; h < heads; ++h) inverse_sum[h] = 0.0f;
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) inverse_sum[h] += a[e * heads + h];
+  for (int32_t h = 0; h < heads; ++h) inverse_sum[h] = 1.0f / inverse_sum[h];
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) a[e * heads + h] *= inverse_sum[h];
+}
+
+// The same with kPackets * 4 heads, one packet per 4 heads and edge.
+template <int kPackets, bool kLipschitz>
+inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t degree,
+                            const int32_t* nb, const float* z, Index zstride, Index width,
+                            const float* norms, float* a, float* lipschitz_denominator) {
+  constexpr int kHeads = 4 * kPackets;
+  const float* self_score = z + static_cast<Index>(i) * zstride + width;
+  Packet self[kPackets], inverse_denominator[kPackets], largest[kPackets], sum[kPackets];
+  for (int p = 0; p < kPackets; ++p) self[p] = ConstPacketMap(self_score + 4 * p);
+  if constexpr (kLipschitz) {
+    for (int p = 0; p < kPackets; ++p) largest[p] = Packet::Zero();
+    for (int32_t e = 0; e < degree; ++e)
+      for (int p = 0; p < kPackets; ++p)
+        largest[p] = largest[p].max(ConstPacketMap(norms + static_cast<Index>(nb[e]) * kHeads + 4 * p));
+    for (int p = 0; p < kPackets; ++p) {
+      const Packet den = ConstPacketMap(params.self_norm + 4 * p) *
+                             ConstPacketMap(norms + static_cast<Index>(i) * kHeads + 4 * p) +
+                         ConstPacketMap(params.neighbour_norm + 4 * p) * largest[p] +
+                         params.lipschitz_epsilon;
+      if (lipschitz_denominator != nullptr)
+        Eigen::Map<Packet>(lipschitz_denominator + static_cast<Index>(i) * kHeads + 4 * p) = den;
+      inverse_denominator[p] = den.inverse();
+    }
+  }
+  const float slope = params.negative_slope;
+  for (int p = 0; p < kPackets; ++p) largest[p] = Packet::Constant(-std::numeric_limits<float>::infinity());
+  for (int32_t e = 0; e < degree; ++e) {
+    const float* t = z + static_cast<Index>(nb[e]) * zstride + width + kHeads;
+    for (int p = 0; p < kPackets; ++p) {
+      Packet x = self[p] + ConstPacketMap(t + 4 * p);
+      if constexpr (kLipschitz) x *= inverse_denominator[p];
+      x = x.max(0.0f) + slope * x.min(0.0f);
+      Eigen::Map<Packet>(a + e * kHeads + 4 * p) = x;
+      largest[p] = largest[p].max(x);
+    }
+  }
+  for (int p = 0; p < kPackets; ++p) sum[p] = Packet::Zero();
+  for (int32_t e = 0; e < degree; ++e)
+    for (int p = 0; p < kPackets; ++p) {
+      Eigen::Map<Packet> x(a + e * kHeads + 4 * p);
+      x = (x - largest[p]).exp();
+      sum[p] += x;
+    }
+  for (int p = 0; p < kPackets; ++p) sum[p] = sum[p].inverse();
+  for (int32_t e = 0; e < degree; ++e)
+    for (int p = 0; p < kPackets; ++p) Eigen::Map<Packet>(a + e * kHeads + 4 * p) *= sum[p];
+}
+
+// Logits, softmax and the weighted sum for destination nodes [begin, end).
+// kHeads > 0 fixes the head count at compile time (the per-head loops unroll
+// and the logits of one edge become one SIMD vector); 0 reads it at run time.
+// Lipschitz and the merge mode are template parameters too, so the inner
+// loops carry no branches.
+template <int kHeads, bool kLipschitz, bool kConcat>
+void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph, const float* z,
+                     Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
+                     Index ostride, float* alpha, float* scratch, float* lipschitz_denominator) {
+  const int32_t heads = kHeads > 0 ? kHeads : params.heads;
+  const Index d = params.head_width;
+  const Index width = static_cast<Index>(heads) * d;  // columns of z holding z_j
+  const Index out_width = kConcat ? width : d;
+  const float head_scale = kConcat ? 1.0f : 1.0f / static_cast<float>(heads);
+  const int32_t* offsets = graph.offsets.data();
+  const int32_t* sources = graph.sources.data();
+  float* head_rows = scratch;  // heads * d' (mean, generic d'); then max_degree * heads (alpha)
+
+  // Per-head coefficients: Q (times 1/H for mean) on alpha, (P - Q) on z_i.
+  float neighbour_coefficient[kMaxAttentionHeads], self_coefficient[kMaxAttentionHeads];
+  bool has_self_term = false;
+  for (int32_t h = 0; h < heads; ++h) {
+    neighbour_coefficient[h] = params.neighbour_coefficient[h] * head_scale;
+    self_coefficient[h] = params.self_coefficient[h] * head_scale;
+    has_self_term = has_self_term || self_coefficient[h] != 0.0f;
+  }
+
+  for (int32_t i = begin; i < end; ++i) {
+    float* __restrict row = out + static_cast<Index>(i) * ostride;
+    const int32_t first = offsets[i];
+    const int32_t degree = offsets[i + 1] - first;
+    const int32_t* __restrict nb = sources + first;
+    if (degree == 0) {  // only a hand-built graph without self loops gets here
+      for (Index k = 0; k < out_width; ++k) row[k] = params.bias != nullptr ? params.bias[k] : 0.0f;
+      continue;
+    }
+    const float* zi = z + static_cast<Index>(i) * zstride;
+    float* __restrict a = alpha != nullptr ? alpha + static_cast<Index>(first) * heads : scratch + width;
+
+    if constexpr (kHeads > 0 && kHeads % 4 == 0) {
+      // Heads in SIMD lanes: one edge's logits are kHeads / 4 packets.
+      softmax_packets<kHeads / 4, kLipschitz>(params, i, degree, nb, z, zstride, width, norms, a,
+                                                lipschitz_denominator);
+    } else {
+      softmax_scalar<kLipschitz>(params, heads, i, degree, nb, z, zstride, width, norms, a,
+                                 lipschitz_denominator);
+    }
+
+    // y_i = sum_j Q alpha_ij z_j + (P - Q) z_i + bias, in that order.
+    if (d % 4 == 0) {
+      accumulate_blocked<kConcat>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
+                                  has_self_term ? self_coefficient : nullptr, params.bias, row);
+    } else if (!kConcat && d < 4 && (heads - 1) * d + 4 <= zstride) {
+      // Mean of narrow heads (the xyz output layers, d' = 3): one packet per
+      // head, lanes past d' read the next columns of the same Z row and are
+      // dropped. Same per-element order as the generic path below.
+      Packet acc[kMaxAttentionHeads];
+      for (int32_t h = 0; h < heads; ++h) acc[h] = Packet::Zero();
+      for (int32_t e = 0; e < degree; ++e) {
+        const float* zj = z + static_cast<Index>(nb[e]) * zstride;
+        const float* ae = a + static_cast<Index>(e) * heads;
+        for (int32_t h = 0; h < heads; ++h)
+          acc[h] += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
+      }
+      if (has_self_term)
+        for (int32_t h = 0; h < heads; ++h) acc[h] += self_coefficient[h] * ConstPacketMap(zi + h * d);
+      for (int32_t h = 1; h < heads; ++h) acc[0] += acc[h];
+      for (Index k = 0; k < d; ++k) row[k] = acc[0][k] + (params.bias != nullptr ? params.bias[k] : 0.0f);
+    } else {
+      // Generic d': per-head accumulators (the row itself for concat), so each
+      // output element's dependency chain is one add per edge, not per
+      // edge and head; mean sums the heads at the end.
+      float* __restrict acc = kConcat ? row : head_rows;
+      for (Index k = 0; k < width; ++k) acc[k] = 0.0f;
+      for (int32_t e = 0; e < degree; ++e) {
+        const float* __restrict zj = z + static_cast<Index>(nb[e]) * zstride;
+        const float* ae = a + static_cast<Index>(e) * heads;
+        for (int32_t h = 0; h < heads; ++h) {
+          const float c = neighbour_coefficient[h] * ae[h];
+          for (Index k = 0; k < d; ++k) acc[h * d + k] += c * zj[h * d + k];
+        }
+      }
+      if (has_self_term)
+        for (int32_t h = 0; h < heads; ++h)
+          for (Index k = 0; k < d; ++k) acc[h * d + k] += self_coefficient[h] * zi[h * d + k];
+      if constexpr (!kConcat) {
+        for (Index k = 0; k < d; ++k) {
+          float sum = acc[k];
+          for (int32_t h = 1; h < heads; ++h) sum += acc[h * d + k];
+          row[k] = sum;
+        }
+      }
+      if (params.bias != nullptr)
+        for (Index k = 0; k < out_width; ++k) row[k] += params.bias[k];
+    }
+  }
+}
+
+template <int kHeads>
+void aggregate_dispatch(const AttentionParams& p, const AttentionGraph& g, const float* z, Index zs,
+                        const float* norms, int32_t begin, int32_t end, float* out, Index os,
+                        float* alpha, float* scratch, float* den) {
+  const bool concat = p.merge == HeadMerge::concat;
+  if (p.lipschitz) {
+    if (concat)
+      aggregate_nodes<kHeads, true, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+    else
+      aggregate_nodes<kHeads, true, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+  } else {
+    if (concat)
+      aggregate_nodes<kHeads, false, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+    else
+      aggregate_nodes<kHeads, false, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+  }
+}
+
+}  // namespace
+
+AttentionGraph attention_graph(const Csr& graph) {
+  const int32_t n = graph.vertex_count();
+  if (n < 0 || graph.offsets.empty() || graph.offsets.front() != 0 ||
+      static_cast<size_t>(graph.offsets.back()) != graph.indices.size())
+    invalid(kKind, "attention_graph",
+            "mesh graph offsets are inconsistent with its " + std::to_string(graph.indices.size()) +
+                " indices");
+  AttentionGraph out;
+  out.offsets.assign(static_cast<size_t>(n) + 1, 0);
+  out.sources.reserve(graph.indices.size() + static_cast<size_t>(n));
+  std::vector<int32_t> row;
+  for (int32_t v = 0; v < n; ++v) {
+    const int32_t b = graph.offsets[v], e = graph.offsets[v + 1];
+    if (e < b)
+      invalid(kKind, "attention_graph", "mesh graph offsets decrease at vertex " + std::to_string(v));
+    row.assign(graph.indices.begin() + b, graph.indices.begin() + e);
+    for (int32_t j : row)
+      if (j < 0 || j >= n)
+        invalid(kKind, "attention_graph",
+                "mesh graph vertex " + std::to_string(v) + " has neighbour " + std::to_string(j) +
+                    ", expected 0.." + std::to_string(n - 1));
+    row.push_back(v);
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    out.sources.insert(out.sources.end(), row.begin(), row.end());
+    out.offsets[static_cast<size_t>(v) + 1] = static_cast<int32_t>(out.sources.size());
+    out.max_degree = std::max(out.max_degree, static_cast<int32_t>(row.size()));
+  }
+  return out;
+}
+
+void GraphAttentionLayer::prepare() {
+  if (heads < 1 || heads > kMaxAttentionHeads)
+    invalid(kKind, name,
+            "heads is " + std::to_string(heads) + ", expected 1.." + std::to_string(kMaxAttentionHeads));
+  if (weight.size() == 0) invalid(kKind, name, "weight is empty");
+  if (weight.cols() % heads != 0)
+    invalid(kKind, name,
+            "weight has " + std::to_string(weight.cols()) + " columns, not a multiple of the " +
+                std::to_string(heads) + " heads");
+  const Index d = head_width();
+  check_shape(kKind, name, "attention", attention.rows(), attention.cols(), heads, 2 * d);
+  if (variant == AttentionVariant::flexigat) {
+    check_shape(kKind, name, "p (flexigat)", 1, p.size(), 1, heads);
+    check_shape(kKind, name, "q (flexigat)", 1, q.size(), 1, heads);
+  }
+  if (bias.size() != 0) check_shape(kKind, name, "bias", 1, bias.size(), 1, out_width());
+  if (!weight.allFinite() || !attention.allFinite() || !bias.allFinite() ||
+      (variant == AttentionVariant::flexigat && (!p.allFinite() || !q.allFinite())))
+    invalid(kKind, name, std::string("a parameter of the ") + variant_name(variant) +
+                             " layer holds a NaN or infinite value");
+  if (!(lipschitz_epsilon > 0.0f) && variant == AttentionVariant::lgat)
+    invalid(kKind, name, "lipschitz_epsilon must be > 0");
+
+  const Index width = weight.cols();
+  folded.resize(weight.rows(), projected_width());
+  folded.leftCols(width) = weight;
+  self_norm.resize(heads);
+  neighbour_norm.resize(heads);
+  self_coefficient.resize(heads);
+  neighbour_coefficient.resize(heads);
+  for (int32_t h = 0; h < heads; ++h) {
+    const auto w = weight.middleCols(h * d, d);
+    const auto a_self = attention.row(h).head(d);
+    const auto a_neighbour = attention.row(h).tail(d);
+    folded.col(width + h) = w * a_self.transpose();
+    folded.col(width + heads + h) = w * a_neighbour.transpose();
+    self_norm[h] = a_self.norm();
+    neighbour_norm[h] = a_neighbour.norm();
+    const bool flexible = variant == AttentionVariant::flexigat;
+    self_coefficient[h] = flexible ? p[h] - q[h] : 0.0f;
+    neighbour_coefficient[h] = flexible ? q[h] : 1.0f;
+  }
+}
+
+AttentionParams attention_params(const GraphAttentionLayer& layer) {
+  AttentionParams params;
+  params.heads = layer.heads;
+  params.head_width = static_cast<int32_t>(layer.head_width());
+  params.merge = layer.merge;
+  params.lipschitz = layer.variant == AttentionVariant::lgat;
+  params.negative_slope = layer.negative_slope;
+  params.lipschitz_epsilon = layer.lipschitz_epsilon;
+  params.self_coefficient = layer.self_coefficient.data();
+  params.neighbour_coefficient = layer.neighbour_coefficient.data();
+  params.self_norm = layer.self_norm.data();
+  params.neighbour_norm = layer.neighbour_norm.data();
+  params.bias = layer.bias.size() != 0 ? layer.bias.data() : nullptr;
+  return params;
+}
+
+void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride,
+                          int32_t begin, int32_t end, float* norms) {
+  const int32_t heads = params.heads;
+  const Index d = params.head_width;
+  for (int32_t j = begin; j < end; ++j) {
+    const float* zj = projected + static_cast<Index>(j) * zstride;
+    for (int32_t h = 0; h < heads; ++h) {
+      float s = 0.0f;
+      for (Index k = 0; k < d; ++k) s += zj[h * d + k] * zj[h * d + k];
+      norms[static_cast<Index>(j) * heads + h] = std::sqrt(s);
+    }
+  }
+}
+
+void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph,
+                         const float* projected, Index zstride, const float* norms, int32_t begin,
+                         int32_t end, float* out, Index ostride, float* alpha, float* scratch,
+                         float* lipschitz_denominator) {
+  switch (params.heads) {
+    case 1:
+      return aggregate_dispatch<1>(params, graph, projected, zstride, norms, begin, end, out,
+                                   ostride, alpha, scratch, lipschitz_denominator);
+    case 2:
+      return aggregate_dispatch<2>(params, graph, projected, zstride, norms, begin, end, out,
+                                   ostride, alpha, scratch, lipschitz_denominator);
+    case 4:
+      return aggregate_dispatch<4>(params, graph, projected, zstride, norms, begin, end, out,
+                                   ostride, alpha, scratch, lipschitz_denominator);
+    case 8:
+      return aggregate_dispatch<8>(params, graph, projected, zstride, norms, begin, end, out,
+                                   ostride, alpha, scratch, lipschitz_denominator);
+    default:
+      return aggregate_dispatch<0>(params, graph, projected, zstride, norms, begin, end, out,
+                                   ostride, alpha, scratch, lipschitz_denominator);
+  }
+}
+
+size_t attention_scratch_floats(size_t heads, size_t heads_times_width, const AttentionGraph& graph) {
+  return heads_times_width + static_cast<size_t>(std::max(graph.max_degree, 0)) * heads;
+}
+
+namespace {
+
+// Everything one forward's tasks share (rows [t * kAttentionTaskRows, ...)).
+struct ForwardJob {
+  const AttentionParams* params;
+  const AttentionGraph* graph;
+  const MatrixRM* folded;
+  const float* v;
+  Index v_stride;
+  Index in_width;
+  float* z;
+  Index z_width;
+  float* norms;  // lgat only
+  float* target;  // pre-activation rows (the output itself unless saved)
+  Index target_stride;
+  float* out;
+  Index out_stride;
+  Index out_width;
+  float* alpha;
+  float* lipschitz_denominator;
+  float* scratch;
+  size_t scratch_per_task;
+  Activation activation;
+  int32_t n;
+};
+
+void project_task(void* context, int32_t task) {
+  const ForwardJob& job = *static_cast<const ForwardJob*>(context);
+  const int32_t begin = task * kAttentionTaskRows;
+  const int32_t end = std::min(job.n, begin + kAttentionTaskRows);
+  MatrixMap z = view(job.z + static_cast<Index>(begin) * job.z_width, end - begin, job.z_width);
+  z.noalias() = view(job.v + static_cast<Index>(begin) * job.v_stride, end - begin, job.in_width,
+                     job.v_stride) *
+                *job.folded;
+  if (job.norms != nullptr)
+    attention_node_norms(*job.params, job.z, job.z_width, begin, end, job.norms);
+}
+
+void aggregate_task(void* context, int32_t task) {
+  const ForwardJob& job = *static_cast<const ForwardJob*>(context);
+  const int32_t begin = task * kAttentionTaskRows;
+  const int32_t end = std::min(job.n, begin + kAttentionTaskRows);
+  attention_aggregate(*job.params, *job.graph, job.z, job.z_width, job.norms, begin, end,
+                      job.target, job.target_stride, job.alpha,
+                      job.scratch + static_cast<size_t>(task) * job.scratch_per_task,
+                      job.lipschitz_denominator);
+  MatrixMap out = view(job.out + static_cast<Index>(begin) * job.out_stride, end - begin,
+                       job.out_width, job.out_stride);
+  if (job.target != job.out)
+    out = view(static_cast<const float*>(job.target) + static_cast<Index>(begin) * job.target_stride,
+               end - begin, job.out_width, job.target_stride);
+  apply_activation(job.activation, out);
+}
+
+int32_t task_count(int32_t n) { return (n + kAttentionTaskRows - 1) / kAttentionTaskRows; }
+
+}  // namespace
+
+size_t GraphAttentionWorkspace::floats_needed(const GraphAttentionLayer& layer,
+                                              const AttentionGraph& graph) {
+  const int32_t n = std::max(graph.node_count(), 0);
+  const size_t nn = static_cast<size_t>(n);
+  const size_t heads = static_cast<size_t>(std::max(layer.heads, 1));
+  return nn * static_cast<size_t>(layer.projected_width()) + nn * heads +
+         static_cast<size_t>(task_count(n)) *
+             attention_scratch_floats(heads, static_cast<size_t>(layer.weight.cols()), graph);
+}
+
+void GraphAttentionWorkspace::reserve(const GraphAttentionLayer& layer, const AttentionGraph& graph) {
+  scratch_.reserve(floats_needed(layer, graph));
+}
+
+void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGraph& graph,
+                             ConstMatrixRef v, MatrixRef out, GraphAttentionWorkspace& workspace,
+                             const GraphAttentionSaved* saved, Executor* executor) {
+  const std::string& name = layer.name;
+  const int32_t heads = layer.heads;
+  if (heads < 1 || heads > kMaxAttentionHeads || layer.folded.rows() != layer.in_width() ||
+      layer.folded.cols() != layer.projected_width() || layer.self_coefficient.size() != heads ||
+      layer.neighbour_coefficient.size() != heads || layer.self_norm.size() != heads ||
+      layer.neighbour_norm.size() != heads ||
+      (layer.bias.size() != 0 && layer.bias.size() != layer.out_width()))
+    invalid(kKind, name, "derived tensors are stale or missing (call prepare() after setting weights)");
+  const int32_t n = graph.node_count();
+  if (n < 0 || graph.offsets.back() < 0 || static_cast<size_t>(graph.offsets.back()) != graph.sources.size())
+    invalid(kKind, name, "attention graph offsets do not match its sources");
+  check_shape(kKind, name, "input V", v.rows(), v.cols(), n, layer.in_width());
+  check_shape(kKind, name, "output", out.rows(), out.cols(), n, layer.out_width());
+  if (n == 0) return;
+
+  const Index pw = layer.projected_width();
+  const size_t nn = static_cast<size_t>(n), hh = static_cast<size_t>(heads);
+  const bool own_projection = saved == nullptr || saved->projected == nullptr;
+  const bool lipschitz = layer.variant == AttentionVariant::lgat;
+  const int32_t tasks = task_count(n);
+  const size_t per_task = attention_scratch_floats(hh, static_cast<size_t>(layer.weight.cols()), graph);
+  const size_t needed = (own_projection ? nn * static_cast<size_t>(pw) : 0) +
+                        (lipschitz ? nn * hh : 0) + static_cast<size_t>(tasks) * per_task;
+  check_scratch(kKind, name, "GraphAttentionWorkspace", needed, workspace.scratch().capacity());
+
+  float* cursor = workspace.scratch().data();
+  float* projected = own_projection ? cursor : saved->projected;
+  if (own_projection) cursor += nn * static_cast<size_t>(pw);
+  float* norms = nullptr;
+  if (lipschitz) {
+    norms = cursor;
+    cursor += nn * hh;
+  }
+
+  const AttentionParams params = attention_params(layer);
+  float* pre = saved != nullptr ? saved->pre_activation : nullptr;
+  ForwardJob job{&params,
+                 &graph,
+                 &layer.folded,
+                 v.data(),
+                 v.outerStride(),
+                 layer.in_width(),
+                 projected,
+                 pw,
+                 norms,
+                 pre != nullptr ? pre : out.data(),
+                 pre != nullptr ? layer.out_width() : out.outerStride(),
+                 out.data(),
+                 out.outerStride(),
+                 layer.out_width(),
+                 saved != nullptr ? saved->alpha : nullptr,
+                 saved != nullptr ? saved->lipschitz_denominator : nullptr,
+                 cursor,
+                 per_task,
+                 layer.activation,
+                 n};
+  SerialExecutor serial;
+  Executor& run = executor != nullptr ? *executor : serial;
+  run.run(tasks, project_task, &job);    // Z (and LGAT norms) for all rows first:
+  run.run(tasks, aggregate_task, &job);  // every node reads its neighbours' rows
+}
+
+}  // namespace pleat::nn
