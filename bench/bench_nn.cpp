@@ -100,8 +100,8 @@ int main(int argc, char** argv) {
 
   std::printf("Eigen sgemm (EIGEN_USE_BLAS -> OpenBLAS), row-major\n");
   double peak = 0;
-  for (auto [m, k, n] : {std::tuple<Index, Index, Index>{4096, 128, 128}, {4096, 64, 72}, {16384, 128, 128},
-                         {4096, 256, 256}})
+  for (auto [m, k, n] :
+       {std::tuple<Index, Index, Index>{4096, 128, 128}, {4096, 64, 72}, {16384, 128, 128}, {4096, 256, 256}})
     peak = std::max(peak, sgemm_gflops(m, k, n, rng));
   std::printf("  peak used below: %.1f GFLOP/s\n\n", peak);
 
@@ -110,7 +110,8 @@ int main(int argc, char** argv) {
   // own 2 threads for the GEMM; everything on one thread; our 2-thread pool
   // over row blocks with OpenBLAS pinned to 1 thread (bit-identical results).
   ThreadPool pool(2);
-  std::printf("graph attention layer, median us per call (FLOPs: GEMM 2*N*in*(H*d'+2H) + aggregation 2*E*H*d')\n");
+  std::printf(
+      "graph attention layer, median us per call (FLOPs: GEMM 2*N*in*(H*d'+2H) + aggregation 2*E*H*d')\n");
   std::printf("  %-32s %6s %7s %9s %9s %9s %9s %8s %6s\n", "layer", "N", "E", "blas2", "1thread", "pool2",
               "gemm(b2)", "GFLOP/s", "%peak");
   std::vector<int> sides = {32, 64, 128};  // ~1k, 4k, 16k vertices
@@ -138,21 +139,23 @@ int main(int argc, char** argv) {
       MatrixRM out(n, layer.out_width());
       GraphAttentionWorkspace ws;
       ws.reserve(layer, graph);
-      const double t_blas2 = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
+      const double t_blas2 =
+          median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
       MatrixRM z(n, layer.projected_width());
       const double t_gemm = median_seconds([&] { z.noalias() = v * layer.folded; }, g_reps);
       double t_one, t_pool;
       {
         SingleThreadedBlas one;
         t_one = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
-        t_pool = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); }, g_reps);
+        t_pool = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); },
+                                g_reps);
       }
       const double flops = 2.0 * n * double(c.in) * double(layer.projected_width()) +
                            2.0 * double(graph.edge_count()) * double(layer.weight.cols());
       const double best = std::min({t_blas2, t_one, t_pool});
-      std::printf("  %-32s %6d %7ld %9.1f %9.1f %9.1f %9.1f %8.1f %5.1f%%\n", c.label, n, long(graph.edge_count()),
-                  t_blas2 * 1e6, t_one * 1e6, t_pool * 1e6, t_gemm * 1e6, flops / best * 1e-9,
-                  100.0 * flops / best * 1e-9 / peak);
+      std::printf("  %-32s %6d %7ld %9.1f %9.1f %9.1f %9.1f %8.1f %5.1f%%\n", c.label, n,
+                  long(graph.edge_count()), t_blas2 * 1e6, t_one * 1e6, t_pool * 1e6, t_gemm * 1e6,
+                  flops / best * 1e-9, 100.0 * flops / best * 1e-9 / peak);
     }
   }
 
@@ -179,14 +182,16 @@ int main(int argc, char** argv) {
       return median_seconds(
           [&] {
             for (size_t l = 0; l < layers.size(); ++l)
-              graph_attention_forward(layers[l], graph, l == 0 ? ConstMatrixRef(v) : ConstMatrixRef(acts[l - 1]),
-                                      acts[l], ws, nullptr, executor);
+              graph_attention_forward(layers[l], graph,
+                                      l == 0 ? ConstMatrixRef(v) : ConstMatrixRef(acts[l - 1]), acts[l], ws,
+                                      nullptr, executor);
           },
           g_reps);
     };
     std::printf("\nper-frame FlexiGAT stacks, N=%d, us:          blas2   1thread     pool2\n", n);
     for (int which = 0; which < 2; ++which) {
-      const std::vector<Index> widths = which == 0 ? std::vector<Index>{64, 32, 3} : std::vector<Index>{64, 64, 32, 32, 3};
+      const std::vector<Index> widths =
+          which == 0 ? std::vector<Index>{64, 32, 3} : std::vector<Index>{64, 64, 32, 32, 3};
       const Index in = which == 0 ? 128 : 6 + joints;
       const double a = stack(widths, in, nullptr);
       double b, c;
@@ -195,8 +200,9 @@ int main(int argc, char** argv) {
         b = stack(widths, in, nullptr);
         c = stack(widths, in, &pool);
       }
-      std::printf("  %-40s %9.1f %9.1f %9.1f\n", which == 0 ? "blend shapes [64,32,3] on 128" : "refinement [64,64,32,32,3] on 6+S",
-                  a * 1e6, b * 1e6, c * 1e6);
+      std::printf("  %-40s %9.1f %9.1f %9.1f\n",
+                  which == 0 ? "blend shapes [64,32,3] on 128" : "refinement [64,64,32,32,3] on 6+S", a * 1e6,
+                  b * 1e6, c * 1e6);
     }
   }
 
@@ -205,8 +211,9 @@ int main(int argc, char** argv) {
     Gru gru;
     const Index in = joints * 6 + 3, h = 128;
     for (int l = 0; l < 3; ++l)
-      gru.layers.push_back({random_matrix(l == 0 ? in : h, 3 * h, rng, 0.08f), random_matrix(h, 3 * h, rng, 0.08f),
-                            random_matrix(1, 3 * h, rng, 0.08f), random_matrix(1, 3 * h, rng, 0.08f)});
+      gru.layers.push_back({random_matrix(l == 0 ? in : h, 3 * h, rng, 0.08f),
+                            random_matrix(h, 3 * h, rng, 0.08f), random_matrix(1, 3 * h, rng, 0.08f),
+                            random_matrix(1, 3 * h, rng, 0.08f)});
     std::printf("\nGRU 3x128, input %ld, window 8\n", long(in));
     for (Index batch : {Index(1), Index(64)}) {
       GruWorkspace ws;
@@ -216,8 +223,8 @@ int main(int argc, char** argv) {
       const double s = median_seconds([&] { gru_window(gru, x, 8, out, ws); }, g_reps * 5);
       double flops = 0;
       for (int l = 0; l < 3; ++l) flops += 2.0 * 8 * double(batch) * double((l == 0 ? in : h) + h) * 3 * h;
-      std::printf("  batch %3ld: %8.1f us per call (%.1f us per sample), %.1f GFLOP/s\n", long(batch), s * 1e6,
-                  s * 1e6 / double(batch), flops / s * 1e-9);
+      std::printf("  batch %3ld: %8.1f us per call (%.1f us per sample), %.1f GFLOP/s\n", long(batch),
+                  s * 1e6, s * 1e6 / double(batch), flops / s * 1e-9);
     }
     GruWorkspace ws;
     ws.reserve(gru, 1);
@@ -243,8 +250,8 @@ int main(int argc, char** argv) {
     const double s = median_seconds([&] { mlp_forward(mlp, x, y, ws); }, g_reps);
     double flops = 0;
     for (int l = 0; l < 3; ++l) flops += 2.0 * rows * double(widths[l]) * double(widths[l + 1]);
-    std::printf("\nMLP [128,256,128] over %ld rows (in %ld): %.1f us, %.1f GFLOP/s (%.0f%% of peak)\n", long(rows),
-                long(widths[0]), s * 1e6, flops / s * 1e-9, 100.0 * flops / s * 1e-9 / peak);
+    std::printf("\nMLP [128,256,128] over %ld rows (in %ld): %.1f us, %.1f GFLOP/s (%.0f%% of peak)\n",
+                long(rows), long(widths[0]), s * 1e6, flops / s * 1e-9, 100.0 * flops / s * 1e-9 / peak);
   }
   return 0;
 }

@@ -43,9 +43,8 @@ void add_tube(Mesh* mesh, int around, int along, float radius, float x0, float m
   for (int j = 0; j < along; ++j)
     for (int i = 0; i < around; ++i) {
       const float a = 6.2831853f * static_cast<float>(i) / static_cast<float>(around);
-      mesh->positions.insert(mesh->positions.end(),
-                             {mirror * (x0 + radius * std::cos(a)), 0.02f * static_cast<float>(j),
-                              radius * std::sin(a)});
+      mesh->positions.insert(mesh->positions.end(), {mirror * (x0 + radius * std::cos(a)),
+                                                     0.02f * static_cast<float>(j), radius * std::sin(a)});
     }
   auto id = [&](int i, int j) { return base + j * around + (i % around); };
   for (int j = 0; j + 1 < along; ++j)
@@ -96,23 +95,20 @@ const char* solver_name(pleat::SolverKind k) {
   }
 }
 
-pleat::BandBasis<double> prepare(const std::string& name, const Mesh& mesh,
-                                 pleat::SolverKind kind) {
+pleat::BandBasis<double> prepare(const std::string& name, const Mesh& mesh, pleat::SolverKind kind) {
   const pleat::Csr graph = pleat::edge_graph(mesh.edges, mesh.vertex_count);
   pleat::BandOptions options;
   options.solver = kind;
   const auto start = Clock::now();
   pleat::BandBasis<double> basis = pleat::compute_band_basis(graph, options);
-  std::printf("prepare  %-22s N %6d  %-8s %8.2f s  low %d/%d mid %d/%d  gaps %.2e %.2e\n",
-              name.c_str(), mesh.vertex_count, solver_name(kind), seconds_since(start),
-              basis.low_count, basis.low_requested, basis.mid_count, basis.mid_requested,
-              basis.low_gap, basis.mid_gap);
+  std::printf("prepare  %-22s N %6d  %-8s %8.2f s  low %d/%d mid %d/%d  gaps %.2e %.2e\n", name.c_str(),
+              mesh.vertex_count, solver_name(kind), seconds_since(start), basis.low_count,
+              basis.low_requested, basis.mid_count, basis.mid_requested, basis.low_gap, basis.mid_gap);
   std::fflush(stdout);
   return basis;
 }
 
-void bench_split(const std::string& name, const pleat::BandBasis<double>& basis,
-                 const Mesh& mesh) {
+void bench_split(const std::string& name, const pleat::BandBasis<double>& basis, const Mesh& mesh) {
   const pleat::BandBasis<float> b = basis.cast<float>();
   const size_t n3 = 3 * static_cast<size_t>(mesh.vertex_count);
   pleat::BandSplitScratch<float> scratch;
@@ -123,12 +119,12 @@ void bench_split(const std::string& name, const pleat::BandBasis<double>& basis,
     std::vector<double> per_frame;
     for (int repeat = 0; repeat < 15; ++repeat) {
       const auto start = Clock::now();
-      pleat::split_bands<float>(b, in.data(), frames, n3, low.data(), n3, mid.data(), n3,
-                                high.data(), n3, &scratch);
+      pleat::split_bands<float>(b, in.data(), frames, n3, low.data(), n3, mid.data(), n3, high.data(), n3,
+                                &scratch);
       per_frame.push_back(seconds_since(start) * 1e3 / static_cast<double>(frames));
     }
-    std::printf("split    %-22s N %6d  float  %2zu frames  %7.3f ms/frame (median of 15)\n",
-                name.c_str(), mesh.vertex_count, frames, median(per_frame));
+    std::printf("split    %-22s N %6d  float  %2zu frames  %7.3f ms/frame (median of 15)\n", name.c_str(),
+                mesh.vertex_count, frames, median(per_frame));
   }
 }
 
@@ -138,8 +134,7 @@ void compare(const pleat::BandBasis<double>& reference, const pleat::BandBasis<d
              const Mesh& mesh) {
   const size_t n3 = 3 * static_cast<size_t>(mesh.vertex_count);
   std::vector<double> x(mesh.positions.begin(), mesh.positions.end()), a(2 * n3), b(2 * n3);
-  pleat::split_bands<double>(reference, x.data(), 1, n3, a.data(), n3, a.data() + n3, n3,
-                             nullptr, 0);
+  pleat::split_bands<double>(reference, x.data(), 1, n3, a.data(), n3, a.data() + n3, n3, nullptr, 0);
   pleat::split_bands<double>(other, x.data(), 1, n3, b.data(), n3, b.data() + n3, n3, nullptr, 0);
   double diff = 0.0, norm = 0.0;
   for (size_t i = 0; i < 2 * n3; ++i) diff = std::max(diff, std::abs(a[i] - b[i]));

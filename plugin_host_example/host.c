@@ -70,8 +70,8 @@ int main(int argc, char** argv) {
   }
   report.struct_size = sizeof report;
   api->garment_get_report(garment, &report);
-  printf("garment: %u vertices, %u triangles, %u components\n", report.vertex_count,
-         report.triangle_count, report.component_count);
+  printf("garment: %u vertices, %u triangles, %u components\n", report.vertex_count, report.triangle_count,
+         report.component_count);
 
   status = api->garment_prepare(garment, NULL);
   if (status != PLEAT_OK) {
@@ -109,8 +109,8 @@ int main(int argc, char** argv) {
     result = fail(api, status, "splitting the rest shape");
     goto done;
   }
-  printf("band energy (RMS per vertex, m): low %.6f  mid %.6f  high %.6f\n", rms(low, n),
-         rms(mid, n), rms(high, n));
+  printf("band energy (RMS per vertex, m): low %.6f  mid %.6f  high %.6f\n", rms(low, n), rms(mid, n),
+         rms(high, n));
   result = 0;
 
 done:

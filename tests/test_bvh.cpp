@@ -19,7 +19,9 @@ using pleat::BvhOptions;
 
 namespace {
 
-std::string motions_dir() { return pleat_test::asset_dir() + "/motions"; }
+std::string motions_dir() {
+  return pleat_test::asset_dir() + "/motions";
+}
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -41,8 +43,9 @@ void expect_error(F f, pleat_status status, const std::string& needle) {
 }
 
 Eigen::Matrix3d rot(char axis, double degrees) {
-  const Eigen::Vector3d a = axis == 'X' ? Eigen::Vector3d::UnitX() : axis == 'Y' ? Eigen::Vector3d::UnitY()
-                                                                                 : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d a = axis == 'X'   ? Eigen::Vector3d::UnitX()
+                            : axis == 'Y' ? Eigen::Vector3d::UnitY()
+                                          : Eigen::Vector3d::UnitZ();
   return Eigen::AngleAxisd(degrees * M_PI / 180.0, a).toRotationMatrix();
 }
 
@@ -118,9 +121,12 @@ TEST(Bvh, TinyFileRotationsFollowChannelOrder) {
 TEST(Bvh, UnitGuessAndZUp) {
   // 170 units tall in centimetres, Z up: a leg down -Z and a head up +Z.
   const char* text =
-      "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 95\nCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n"
-      "JOINT Leg\n{\nOFFSET 10 0 -95\nCHANNELS 3 Xrotation Yrotation Zrotation\nEnd Site\n{\nOFFSET 0 -20 0\n}\n}\n"
-      "JOINT Head\n{\nOFFSET 0 0 75\nCHANNELS 3 Xrotation Yrotation Zrotation\nEnd Site\n{\nOFFSET 0 0 0\n}\n}\n}\n"
+      "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 95\nCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation "
+      "Xrotation\n"
+      "JOINT Leg\n{\nOFFSET 10 0 -95\nCHANNELS 3 Xrotation Yrotation Zrotation\nEnd Site\n{\nOFFSET 0 -20 "
+      "0\n}\n}\n"
+      "JOINT Head\n{\nOFFSET 0 0 75\nCHANNELS 3 Xrotation Yrotation Zrotation\nEnd Site\n{\nOFFSET 0 0 "
+      "0\n}\n}\n}\n"
       "MOTION\nFrames: 1\nFrame Time: 0.5\n0 5 95 0 0 0 90 0 0 0 0 0\n";
   const BvhClip clip = pleat::parse_bvh(text, "zup.bvh");
   EXPECT_TRUE(clip.conversion.scale_guessed);
@@ -145,20 +151,25 @@ TEST(Bvh, MalformedInputNamesTheLine) {
   auto parse = [](const std::string& text) { return [text] { pleat::parse_bvh(text, "bad.bvh"); }; };
   expect_error(parse(tiny_with("    CHANNELS 3 Zrotation Xrotation Yrotation\r\n", "")), F,
                "bad.bvh:6: joint 'Chest' has no CHANNELS");
-  expect_error(parse(tiny_with("0 0 0 0 0 0 0 0 90", "0 0 0 0 0 0 0 90")), F, "bad.bvh:20: frame 1 has 8 values");
-  expect_error(parse(tiny_with("0 0 0 0 0 0 0 0 90", "0 0 0 0 0 0 0 0 90 1")), F, "bad.bvh:20: frame 1 has 10 values");
+  expect_error(parse(tiny_with("0 0 0 0 0 0 0 0 90", "0 0 0 0 0 0 0 90")), F,
+               "bad.bvh:20: frame 1 has 8 values");
+  expect_error(parse(tiny_with("0 0 0 0 0 0 0 0 90", "0 0 0 0 0 0 0 0 90 1")), F,
+               "bad.bvh:20: frame 1 has 10 values");
   expect_error(parse(tiny_with("0 0 0 0 0 0 0 0 90\r\n", "")), F, "truncated MOTION data: 1 rows");
   expect_error(parse(tiny_with("Frames: 2", "Frames: 1")), F, "bad.bvh:20: more motion rows");
   expect_error(parse(tiny_with("Frames: 2", "Frames: 999999999")), F, "truncated MOTION data: 2 rows");
   expect_error(parse(tiny_with("40 50 60", "40 nan 60")), F, "bad.bvh:19: non-finite value 'nan'");
   expect_error(parse(tiny_with("40 50 60", "40 5x 60")), F, "bad.bvh:19: '5x' is not a number");
-  expect_error(parse(tiny_with("    OFFSET 0 10 0", "    OFSET 0 10 0")), F, "bad.bvh:8: unknown keyword 'OFSET'");
-  expect_error(parse(tiny_with("OFFSET 0 10 0", "OFFSET 0 10")), F, "bad.bvh:8: OFFSET of joint 'Chest' needs 3");
-  expect_error(parse(tiny_with("CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 3 Zrotation Xrotation")), F,
-               "bad.bvh:9: CHANNELS declares 3 channels but names 2");
+  expect_error(parse(tiny_with("    OFFSET 0 10 0", "    OFSET 0 10 0")), F,
+               "bad.bvh:8: unknown keyword 'OFSET'");
+  expect_error(parse(tiny_with("OFFSET 0 10 0", "OFFSET 0 10")), F,
+               "bad.bvh:8: OFFSET of joint 'Chest' needs 3");
+  expect_error(parse(tiny_with("CHANNELS 3 Zrotation Xrotation Yrotation", "CHANNELS 3 Zrotation Xrotation")),
+               F, "bad.bvh:9: CHANNELS declares 3 channels but names 2");
   expect_error(parse(tiny_with("Zrotation Xrotation Yrotation", "Zrotation Wrotation Yrotation")), F,
                "bad.bvh:9: unknown channel 'Wrotation'");
-  expect_error(parse(tiny_with("Frame Time: 0.0333333", "Frame Time: 0")), F, "bad.bvh:18: frame time must be");
+  expect_error(parse(tiny_with("Frame Time: 0.0333333", "Frame Time: 0")), F,
+               "bad.bvh:18: frame time must be");
   expect_error(parse(tiny_with("MOTION\r\n", "")), F, "bad.bvh:16: expected MOTION");
   expect_error(parse(tiny_with("  }\r\n}\r\n", "  }\r\n")), F, "bad.bvh:15: unknown keyword 'MOTION'");
   expect_error(parse(std::string(kTiny).substr(0, 120)), F, "bad.bvh:");
@@ -249,7 +260,8 @@ TEST(Bvh, KnownClipHeaders) {
 }
 
 TEST(Bvh, FixtureLoads) {
-  const BvhClip clip = pleat::read_bvh(pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh");
+  const BvhClip clip =
+      pleat::read_bvh(pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh");
   EXPECT_EQ(clip.motion.frame_count, 121);
   EXPECT_EQ(clip.motion.skeleton.joint_count(), 31);
   EXPECT_EQ(clip.end_sites.size(), 7u);  // toes x2, head, fingers x2, thumbs x2

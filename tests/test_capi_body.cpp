@@ -24,7 +24,8 @@ BodyPtr makehuman() {
 
 MotionPtr load_motion(const std::string& relative) {
   pleat_motion* m = nullptr;
-  EXPECT_EQ(pleat_motion_load((pleat_test::asset_dir() + "/motions/" + relative).c_str(), nullptr, &m), PLEAT_OK)
+  EXPECT_EQ(pleat_motion_load((pleat_test::asset_dir() + "/motions/" + relative).c_str(), nullptr, &m),
+            PLEAT_OK)
       << pleat_last_error();
   return MotionPtr(m, pleat_motion_destroy);
 }
@@ -119,7 +120,8 @@ TEST(CapiBody, WalkRetargetedOntoTheBodyKeepsFeetOnTheGround) {
   EXPECT_GT(travel, 0.5f) << "a walk covers ground";
 
   std::vector<float> q(frames * 31 * 4);
-  ASSERT_EQ(pleat_motion_get_frames(retargeted.get(), first, frames, q.data(), q.size(), nullptr, 0), PLEAT_OK);
+  ASSERT_EQ(pleat_motion_get_frames(retargeted.get(), first, frames, q.data(), q.size(), nullptr, 0),
+            PLEAT_OK);
   for (size_t i = 0; i < q.size(); i += 4)
     EXPECT_NEAR(q[i] * q[i] + q[i + 1] * q[i + 1] + q[i + 2] * q[i + 2] + q[i + 3] * q[i + 3], 1.0f, 1e-5f);
 }
@@ -130,7 +132,8 @@ TEST(CapiBody, BadInputIsNamed) {
   EXPECT_EQ(b, reinterpret_cast<pleat_body*>(0x1));
   pleat_motion* m = nullptr;
   EXPECT_NE(pleat_motion_load("/no/such/clip.bvh", nullptr, &m), PLEAT_OK);
-  EXPECT_NE(std::string(pleat_last_error()).find("/no/such/clip.bvh"), std::string::npos) << pleat_last_error();
+  EXPECT_NE(std::string(pleat_last_error()).find("/no/such/clip.bvh"), std::string::npos)
+      << pleat_last_error();
 
   BodyPtr body = makehuman();
   MotionPtr daz = load_motion("cmu_daz/02_02.bvh");
@@ -143,6 +146,7 @@ TEST(CapiBody, BadInputIsNamed) {
   std::vector<float> out(info_of(body.get()).vertex_count * size_t{3});
   EXPECT_EQ(pleat_body_pose_motion(body.get(), mapped.get(), 100000, 1, {out.data(), 0}),
             PLEAT_ERROR_INVALID_ARGUMENT);
-  EXPECT_EQ(pleat_body_pose_motion(body.get(), daz.get(), 0, 1, {out.data(), 0}), PLEAT_ERROR_INVALID_ARGUMENT)
+  EXPECT_EQ(pleat_body_pose_motion(body.get(), daz.get(), 0, 1, {out.data(), 0}),
+            PLEAT_ERROR_INVALID_ARGUMENT)
       << "a motion on another skeleton must be retargeted first";
 }

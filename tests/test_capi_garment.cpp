@@ -19,7 +19,9 @@ using Garment = pleat_test::GarmentPtr;
 
 pleat_garment* const kSentinel = reinterpret_cast<pleat_garment*>(0x1);
 
-Garment create(const pleat_test::SimpleMesh& m) { return pleat_test::create_garment(m); }
+Garment create(const pleat_test::SimpleMesh& m) {
+  return pleat_test::create_garment(m);
+}
 
 pleat_mesh_report report_of(const pleat_garment* g) {
   pleat_mesh_report r{};
@@ -34,7 +36,9 @@ void expect_error(pleat_status status, pleat_status expected, const std::string&
       << "message '" << pleat_last_error() << "' lacks '" << text << "'";
 }
 
-std::string sample_dress() { return pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj"; }
+std::string sample_dress() {
+  return pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj";
+}
 
 std::vector<char> read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -95,8 +99,9 @@ TEST(CapiGarment, BadInputGetsStatusAndMessage) {
   s = pleat_garment_load((dir + "/empty.obj").c_str(), nullptr, &g);
   EXPECT_TRUE(s == PLEAT_ERROR_FORMAT || s == PLEAT_ERROR_INVALID_MESH) << pleat_status_name(s);
 
-  expect_error(pleat_garment_create(m.positions.data(), 0, m.triangles.data(), m.triangle_count(), nullptr, &g),
-               PLEAT_ERROR_INVALID_ARGUMENT, "triangles[0]");
+  expect_error(
+      pleat_garment_create(m.positions.data(), 0, m.triangles.data(), m.triangle_count(), nullptr, &g),
+      PLEAT_ERROR_INVALID_ARGUMENT, "triangles[0]");
   expect_error(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(), 0, nullptr, &g),
                PLEAT_ERROR_INVALID_MESH, "no triangles");
   auto nan = m;
@@ -111,18 +116,19 @@ TEST(CapiGarment, BadInputGetsStatusAndMessage) {
                PLEAT_ERROR_INVALID_MESH, "vertex 0 x coordinate");
   auto out_of_range = m;
   out_of_range.triangles[7] = 42;
-  expect_error(pleat_garment_create(out_of_range.positions.data(), out_of_range.vertex_count(),
-                                    out_of_range.triangles.data(), out_of_range.triangle_count(), nullptr, &g),
-               PLEAT_ERROR_INVALID_ARGUMENT, "triangles[7] = 42");
+  expect_error(
+      pleat_garment_create(out_of_range.positions.data(), out_of_range.vertex_count(),
+                           out_of_range.triangles.data(), out_of_range.triangle_count(), nullptr, &g),
+      PLEAT_ERROR_INVALID_ARGUMENT, "triangles[7] = 42");
   pleat_garment_load_options zero{};
-  expect_error(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(), m.triangle_count(),
-                                    &zero, &g),
+  expect_error(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(),
+                                    m.triangle_count(), &zero, &g),
                PLEAT_ERROR_INVALID_ARGUMENT, "struct_size");
   pleat_garment_load_options negative_scale{};
   negative_scale.struct_size = sizeof negative_scale;
   negative_scale.unit_scale = -1.0;
-  expect_error(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(), m.triangle_count(),
-                                    &negative_scale, &g),
+  expect_error(pleat_garment_create(m.positions.data(), m.vertex_count(), m.triangles.data(),
+                                    m.triangle_count(), &negative_scale, &g),
                PLEAT_ERROR_INVALID_ARGUMENT, "unit_scale");
   EXPECT_EQ(g, kSentinel) << "outputs must stay untouched on failure";
 }
@@ -137,27 +143,30 @@ TEST(CapiGarment, DisconnectedAndDuplicatedMeshesLoad) {
 }
 
 TEST(CapiGarment, SplitBandsSumsToInputAndIgnoresTranslation) {
-  auto m = pleat_test::concat(pleat_test::grid(12, 10, 0.03f), pleat_test::mirrored_x(pleat_test::grid(12, 10, 0.03f, {0.1f, 0, 0})));
+  auto m = pleat_test::concat(pleat_test::grid(12, 10, 0.03f),
+                              pleat_test::mirrored_x(pleat_test::grid(12, 10, 0.03f, {0.1f, 0, 0})));
   Garment g = create(m);
   std::vector<float> x = m.positions;
   std::vector<float> dummy(x.size());
-  expect_error(pleat_garment_split_bands(g.get(), {x.data(), 0}, 1, {dummy.data(), 0}, {nullptr, 0}, {nullptr, 0}),
-               PLEAT_ERROR_NOT_PREPARED, "pleat_garment_prepare");
+  expect_error(
+      pleat_garment_split_bands(g.get(), {x.data(), 0}, 1, {dummy.data(), 0}, {nullptr, 0}, {nullptr, 0}),
+      PLEAT_ERROR_NOT_PREPARED, "pleat_garment_prepare");
   ASSERT_EQ(pleat_garment_prepare(g.get(), nullptr), PLEAT_OK) << pleat_last_error();
 
   pleat_band_info info{};
   info.struct_size = sizeof info;
   ASSERT_EQ(pleat_garment_get_band_info(g.get(), &info), PLEAT_OK);
   EXPECT_EQ(info.vertex_count, 240u);
-  EXPECT_EQ(info.low_count_requested, 8u);  // ceil(240 / 30)
-  EXPECT_EQ(info.mid_count_requested, 48u); // ceil(240 / 5)
+  EXPECT_EQ(info.low_count_requested, 8u);   // ceil(240 / 30)
+  EXPECT_EQ(info.mid_count_requested, 48u);  // ceil(240 / 5)
   EXPECT_EQ(info.projection, static_cast<uint32_t>(PLEAT_PROJECTION_RANDOM_WALK));
   EXPECT_GT(info.geodesic_pair_count, 0u);
 
   // Two frames: the rest shape and a bumped copy, batched.
   std::vector<float> frames = x;
-  for (size_t i = 0; i < x.size(); i += 3) frames.push_back(x[i]), frames.push_back(x[i + 1]),
-                                          frames.push_back(x[i + 2] + 0.01f * std::sin(40.0f * x[i]));
+  for (size_t i = 0; i < x.size(); i += 3)
+    frames.push_back(x[i]), frames.push_back(x[i + 1]),
+        frames.push_back(x[i + 2] + 0.01f * std::sin(40.0f * x[i]));
   auto bands = split(g.get(), frames, 2);
   for (size_t i = 0; i < frames.size(); ++i)
     EXPECT_NEAR(bands[0][i] + bands[1][i] + bands[2][i], frames[i], 1e-6f) << i;
@@ -192,10 +201,12 @@ TEST(CapiGarment, SplitBandsHonoursStridesAndSkipsNullOutputs) {
   EXPECT_EQ(high[n], 123.0f) << "padding between frames must stay untouched";
   std::vector<float> bad = m.positions;
   bad[17] = std::numeric_limits<float>::infinity();
-  expect_error(pleat_garment_split_bands(g.get(), {bad.data(), 0}, 1, {high.data(), 0}, {nullptr, 0}, {nullptr, 0}),
-               PLEAT_ERROR_INVALID_ARGUMENT, "frame 0 vertex 5");
-  expect_error(pleat_garment_split_bands(g.get(), {in.data(), 7}, 1, {high.data(), 0}, {nullptr, 0}, {nullptr, 0}),
-               PLEAT_ERROR_INVALID_ARGUMENT, "positions.frame_stride");
+  expect_error(
+      pleat_garment_split_bands(g.get(), {bad.data(), 0}, 1, {high.data(), 0}, {nullptr, 0}, {nullptr, 0}),
+      PLEAT_ERROR_INVALID_ARGUMENT, "frame 0 vertex 5");
+  expect_error(
+      pleat_garment_split_bands(g.get(), {in.data(), 7}, 1, {high.data(), 0}, {nullptr, 0}, {nullptr, 0}),
+      PLEAT_ERROR_INVALID_ARGUMENT, "positions.frame_stride");
 }
 
 TEST(CapiGarment, PreparedFileRoundTripsBitExactly) {

@@ -12,7 +12,9 @@ namespace {
 
 using Garment = pleat_test::GarmentPtr;
 
-Garment create(const pleat_test::SimpleMesh& m) { return pleat_test::create_garment(m); }
+Garment create(const pleat_test::SimpleMesh& m) {
+  return pleat_test::create_garment(m);
+}
 
 pleat_metrics metrics(const pleat_garment* g, const std::vector<float>& pred, const std::vector<float>& truth,
                       size_t frames, uint32_t flags, pleat_status expected = PLEAT_OK) {
@@ -75,7 +77,8 @@ TEST(CapiCache, Pc2RoundTripAndInfo) {
   const std::string dir = pleat_test::temp_dir("capi_cache");
   for (const char* name : {"/anim.pc2", "/anim.mdd"}) {
     const std::string path = dir + name;
-    ASSERT_EQ(pleat_cache_write(path.c_str(), PLEAT_CACHE_AUTO, nullptr, {x.data(), 0}, frames, n, 24.0), PLEAT_OK)
+    ASSERT_EQ(pleat_cache_write(path.c_str(), PLEAT_CACHE_AUTO, nullptr, {x.data(), 0}, frames, n, 24.0),
+              PLEAT_OK)
         << pleat_last_error();
     pleat_cache_info info{};
     info.struct_size = sizeof info;
@@ -108,8 +111,8 @@ TEST(CapiCache, ObjSequenceNeedsTheGarmentsFaces) {
   EXPECT_NE(std::string(pleat_last_error()).find("garment"), std::string::npos);
   std::vector<float> two = mesh.positions;
   two.insert(two.end(), mesh.positions.begin(), mesh.positions.end());
-  ASSERT_EQ(pleat_cache_write(pattern.c_str(), PLEAT_CACHE_AUTO, g.get(), {two.data(), 0}, 2, mesh.vertex_count(),
-                              30.0),
+  ASSERT_EQ(pleat_cache_write(pattern.c_str(), PLEAT_CACHE_AUTO, g.get(), {two.data(), 0}, 2,
+                              mesh.vertex_count(), 30.0),
             PLEAT_OK)
       << pleat_last_error();
   pleat_cache_info info{};
@@ -119,8 +122,8 @@ TEST(CapiCache, ObjSequenceNeedsTheGarmentsFaces) {
   EXPECT_EQ(info.format, static_cast<uint32_t>(PLEAT_CACHE_OBJ_SEQUENCE));
   // A garment-loaded OBJ frame has the garment's topology.
   pleat_garment* frame = nullptr;
-  ASSERT_EQ(pleat_garment_load(std::filesystem::path(pattern).replace_filename("frame_000.obj").c_str(), nullptr,
-                               &frame),
+  ASSERT_EQ(pleat_garment_load(std::filesystem::path(pattern).replace_filename("frame_000.obj").c_str(),
+                               nullptr, &frame),
             PLEAT_OK)
       << pleat_last_error();
   Garment owner(frame);

@@ -14,14 +14,18 @@ std::string env(const char* name) {
   return v ? v : "";
 }
 
-std::string dress() { return pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj"; }
+std::string dress() {
+  return pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj";
+}
 
 }  // namespace
 
 TEST(Cli, PrepareReportsAndWritesAFileInspectReadsBack) {
   const std::string out = pleat_test::temp_dir("cli") + "/dress.pleatg";
   std::string text;
-  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " prepare " + dress() + " --unit-scale 0.1 -o " + out, &text), 0)
+  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " prepare " + dress() + " --unit-scale 0.1 -o " + out,
+                                    &text),
+            0)
       << text;
   EXPECT_NE(text.find("vertices            2205"), std::string::npos) << text;
   EXPECT_NE(text.find("units look like     metres"), std::string::npos) << text;
@@ -33,7 +37,8 @@ TEST(Cli, PrepareReportsAndWritesAFileInspectReadsBack) {
   EXPECT_NE(text.find("vertices            2205"), std::string::npos) << text;
   EXPECT_NE(text.find("solver              dense"), std::string::npos) << text;
 
-  ASSERT_EQ(pleat_test::run_command(env("PLEAT_HOST") + " " + env("PLEAT_LIBRARY") + " " + out, &text), 0) << text;
+  ASSERT_EQ(pleat_test::run_command(env("PLEAT_HOST") + " " + env("PLEAT_LIBRARY") + " " + out, &text), 0)
+      << text;
   EXPECT_NE(text.find("garment: 2205 vertices"), std::string::npos) << text;
   EXPECT_NE(text.find("band energy"), std::string::npos) << text;
 }
@@ -43,7 +48,8 @@ TEST(Cli, ErrorsExitNonZeroWithTheReason) {
   EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " prepare /no/such.obj 2>&1", &text), 1);
   EXPECT_NE(text.find("PLEAT_ERROR_IO"), std::string::npos) << text;
   EXPECT_NE(text.find("/no/such.obj"), std::string::npos) << text;
-  EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " prepare " + dress() + " --solver magic 2>&1", &text), 2);
+  EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " prepare " + dress() + " --solver magic 2>&1", &text),
+            2);
   EXPECT_NE(text.find("--solver must be one of"), std::string::npos) << text;
   EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " frobnicate 2>&1", &text), 2);
   EXPECT_NE(text.find("unknown command"), std::string::npos) << text;
@@ -53,9 +59,9 @@ TEST(Cli, PoseWritesABodyCacheAndRestObj) {
   const std::string dir = pleat_test::temp_dir("cli_pose");
   const std::string clip = pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh";
   std::string text;
-  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() + "/body --motion " +
-                                        clip + " --shape height=0.8,gender=1 -o " + dir + "/walk.pc2 --rest-obj " +
-                                        dir + "/rest.obj 2>&1",
+  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() +
+                                        "/body --motion " + clip + " --shape height=0.8,gender=1 -o " + dir +
+                                        "/walk.pc2 --rest-obj " + dir + "/rest.obj 2>&1",
                                     &text),
             0)
       << text;
@@ -65,10 +71,11 @@ TEST(Cli, PoseWritesABodyCacheAndRestObj) {
   EXPECT_EQ(h.vertex_count, 13380);
   EXPECT_TRUE(std::filesystem::exists(dir + "/rest.obj"));
 
-  EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() + "/body --motion " +
-                                        clip + " --shape stature=2 -o " + dir + "/x.pc2 2>&1",
-                                    &text),
-            2);
+  EXPECT_EQ(
+      pleat_test::run_command(env("PLEAT_CLI") + " pose --body " + pleat_test::asset_dir() +
+                                  "/body --motion " + clip + " --shape stature=2 -o " + dir + "/x.pc2 2>&1",
+                              &text),
+      2);
   EXPECT_NE(text.find("unknown entry 'stature'"), std::string::npos) << text;
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.pc2"));
 }

@@ -43,7 +43,7 @@ void expect_failure(const Points3d& v, const Triangles& t, pleat_status status, 
 TEST(Weld, MergesSeamDuplicatesOnly) {
   // Two triangles of a unit square, each with its own copy of the diagonal.
   Points3d v(6, 3);
-  v << 0, 0, 0, 1, 0, 0, 1, 1, 0,   //
+  v << 0, 0, 0, 1, 0, 0, 1, 1, 0,  //
       0, 0, 0, 1, 1, 0, 0, 1, 0;
   WeldResult w = weld_vertices(v, 1e-9);
   EXPECT_EQ(w.vertices.rows(), 4);
@@ -117,9 +117,9 @@ TEST(GarmentBuild, ReportOfACleanGrid) {
 TEST(GarmentBuild, CountsDuplicatesIsolatedAndDegenerate) {
   Points3d v(7, 3);
   v << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,  // square
-      1, 1, 0,                               // duplicate of vertex 2
-      5, 5, 5,                               // isolated
-      2, 0, 0;                               // used only by a degenerate triangle
+      1, 1, 0,                              // duplicate of vertex 2
+      5, 5, 5,                              // isolated
+      2, 0, 0;                              // used only by a degenerate triangle
   Triangles t(3, 3);
   t << 0, 1, 2, 0, 4, 3, 1, 6, 6;
   Garment g = build_garment(v, t, {}, "soup");

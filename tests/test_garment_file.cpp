@@ -68,7 +68,8 @@ TEST(GarmentFile, MissingAndInconsistentFieldsAreNamed) {
     auto bands = fb::CreateBands(b, 1, 2, 1, 2, PLEAT_SOLVER_DENSE, 0, 0.5, 0.5, b.CreateVector(eig),
                                  b.CreateVector(vec), b.CreateVector(deg));
     std::vector<int32_t> offsets = {0, 0, 0, 0};
-    auto geo = fb::CreateNeighbourhoods(b, 0.1, b.CreateVector(offsets), b.CreateVector(std::vector<int32_t>{}));
+    auto geo =
+        fb::CreateNeighbourhoods(b, 0.1, b.CreateVector(offsets), b.CreateVector(std::vector<int32_t>{}));
     auto root = fb::CreateGarment(b, kGarmentFormatVersion, 0, 0, b.CreateVector(v), b.CreateVector(t),
                                   b.CreateVector(remap), fb::CreateMeshReport(b), bands, geo);
     expect_refused(finish(b, root), PLEAT_ERROR_FORMAT, "'bands.vectors' has 3 values, expected 6");

@@ -19,10 +19,10 @@ namespace {
 // A two-quad strip with a UV seam: the middle column exists twice.
 void write_seamed_obj(const std::string& path) {
   std::ofstream out(path);
-  out << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"   // left quad
-         "v 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"   // right quad, seam copy of x = 1
-         "vt 0 0\nvt 0.4 0\nvt 0.4 1\nvt 0 1\n"   // separate UV islands, as
-         "vt 0.6 0\nvt 1 0\nvt 1 1\nvt 0.6 1\n"   // a garment's panels have
+  out << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"  // left quad
+         "v 1 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\n"  // right quad, seam copy of x = 1
+         "vt 0 0\nvt 0.4 0\nvt 0.4 1\nvt 0 1\n"  // separate UV islands, as
+         "vt 0.6 0\nvt 1 0\nvt 1 1\nvt 0.6 1\n"  // a garment's panels have
          "f 1/1 2/2 3/3 4/4\nf 5/5 6/6 7/7 8/8\n";
 }
 
@@ -30,9 +30,9 @@ void write_seamed_obj(const std::string& path) {
 void export_strip(const std::string& path, const char* format) {
   aiScene scene;
   scene.mRootNode = new aiNode();
-  scene.mMaterials = new aiMaterial*[1]{new aiMaterial()};
+  scene.mMaterials = new aiMaterial* [1] { new aiMaterial() };
   scene.mNumMaterials = 1;
-  scene.mMeshes = new aiMesh*[1]{new aiMesh()};
+  scene.mMeshes = new aiMesh* [1] { new aiMesh() };
   scene.mNumMeshes = 1;
   scene.mRootNode->mMeshes = new unsigned[1]{0};
   scene.mRootNode->mNumMeshes = 1;

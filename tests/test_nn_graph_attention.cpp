@@ -92,7 +92,8 @@ Reference reference(const GraphAttentionLayer& L, const Graph& g, const MatrixRM
   const int d = static_cast<int>(L.weight.cols()) / H;
   const int in = static_cast<int>(L.weight.rows());
   // z[j][h][c] = sum_k v[j][k] W[k][h*d + c]
-  std::vector<std::vector<std::vector<double>>> z(n, std::vector<std::vector<double>>(H, std::vector<double>(d, 0.0)));
+  std::vector<std::vector<std::vector<double>>> z(
+      n, std::vector<std::vector<double>>(H, std::vector<double>(d, 0.0)));
   for (int j = 0; j < n; ++j)
     for (int h = 0; h < H; ++h)
       for (int c = 0; c < d; ++c) {
@@ -262,7 +263,8 @@ TEST(NnGraphAttention, MatchesNaiveReferenceAllVariants) {
   for (int trial = 0; trial < 3; ++trial) {
     const Graph g = random_graph(14, 0.3, rng);
     const AttentionGraph graph = attention_graph(g.csr);
-    for (AttentionVariant variant : {AttentionVariant::gat, AttentionVariant::lgat, AttentionVariant::flexigat})
+    for (AttentionVariant variant :
+         {AttentionVariant::gat, AttentionVariant::lgat, AttentionVariant::flexigat})
       for (int heads : {1, 2, 3, 4, 8})
         for (HeadMerge merge : {HeadMerge::concat, HeadMerge::mean}) {
           const Index in = 5 + trial, d = trial == 0 ? 3 : trial == 1 ? 4 : 8;  // scalar / SIMD paths
@@ -352,12 +354,12 @@ TEST(NnGraphAttention, SplitOverThreadsIsBitIdentical) {
   std::vector<float> s1(attention_scratch_floats(4, 16, graph)), s2(s1.size());
   attention_node_norms(params, z.data(), z.cols(), 0, 40, norms.data());
   std::thread t1([&] {
-    attention_aggregate(params, graph, z.data(), z.cols(), norms.data(), 0, 17, out.data(), 16,
-                        nullptr, s1.data(), nullptr);
+    attention_aggregate(params, graph, z.data(), z.cols(), norms.data(), 0, 17, out.data(), 16, nullptr,
+                        s1.data(), nullptr);
   });
   std::thread t2([&] {
-    attention_aggregate(params, graph, z.data(), z.cols(), norms.data(), 17, 40, out.data(), 16,
-                        nullptr, s2.data(), nullptr);
+    attention_aggregate(params, graph, z.data(), z.cols(), norms.data(), 17, 40, out.data(), 16, nullptr,
+                        s2.data(), nullptr);
   });
   t1.join();
   t2.join();
@@ -430,8 +432,7 @@ TEST(NnGraphAttention, ShapeErrorsNameTheTensor) {
   expect_error([&] { bad.prepare(); }, {"7 columns", "2 heads"});
   bad = layer;
   bad.weight = MatrixRM::Zero(5, 6);  // changed without prepare()
-  expect_error([&] { graph_attention_forward(bad, graph, MatrixRM::Zero(6, 5), out, ws); },
-               {"prepare()"});
+  expect_error([&] { graph_attention_forward(bad, graph, MatrixRM::Zero(6, 5), out, ws); }, {"prepare()"});
 }
 
 TEST(NnThreadPool, RunsEveryTaskOnceAcrossManyRuns) {
@@ -443,7 +444,8 @@ TEST(NnThreadPool, RunsEveryTaskOnceAcrossManyRuns) {
   } ctx{&hits};
   for (int run = 0; run < 200; ++run) {
     const int32_t tasks = 1 + run % 97;
-    pool.run(tasks, [](void* c, int32_t t) { (*static_cast<Ctx*>(c)->hits)[static_cast<size_t>(t)]++; }, &ctx);
+    pool.run(
+        tasks, [](void* c, int32_t t) { (*static_cast<Ctx*>(c)->hits)[static_cast<size_t>(t)]++; }, &ctx);
   }
   int total = 0;
   for (auto& h : hits) total += h.load();

@@ -28,16 +28,11 @@ MatrixRM random_matrix(Index r, Index c, std::mt19937& rng, float scale = 1.0f) 
 
 double act_ref(const Activation& a, double x) {
   switch (a.kind) {
-    case ActivationKind::identity:
-      return x;
-    case ActivationKind::tanh:
-      return std::tanh(x);
-    case ActivationKind::relu:
-      return x > 0 ? x : 0;
-    case ActivationKind::leaky_relu:
-      return x > 0 ? x : a.parameter * x;
-    case ActivationKind::elu:
-      return x > 0 ? x : a.parameter * (std::exp(x) - 1);
+    case ActivationKind::identity: return x;
+    case ActivationKind::tanh: return std::tanh(x);
+    case ActivationKind::relu: return x > 0 ? x : 0;
+    case ActivationKind::leaky_relu: return x > 0 ? x : a.parameter * x;
+    case ActivationKind::elu: return x > 0 ? x : a.parameter * (std::exp(x) - 1);
   }
   return x;
 }
@@ -84,7 +79,8 @@ TEST(NnDense, MatchesNaiveAndNamesBadShapes) {
       EXPECT_NEAR(y(r, c), act_ref(Activation::elu(1.0f), s), 1e-5);
     }
   MatrixRM bad(11, 4);
-  expect_error([&] { dense_forward(d, x, Activation::tanh(), bad); }, {"head", "output y is 11x4", "expected 11x5"});
+  expect_error([&] { dense_forward(d, x, Activation::tanh(), bad); },
+               {"head", "output y is 11x4", "expected 11x5"});
   expect_error([&] { dense_forward(d, MatrixRM::Zero(3, 6), Activation::tanh(), y); },
                {"input x is 3x6", "expected anyx7"});
 }
@@ -231,7 +227,8 @@ TEST(NnGru, StreamingEqualsWindowBitForBit) {
     MatrixRM window10(batch, hidden);
     gru_window(gru, longer, steps + 2, window10, ws);
     for (int s = steps; s < steps + 2; ++s) gru_step(gru, longer.middleRows(s * batch, batch), state, ws);
-    for (Index k = 0; k < window10.size(); ++k) ASSERT_EQ(state.bottomRows(batch).eval().data()[k], window10.data()[k]);
+    for (Index k = 0; k < window10.size(); ++k)
+      ASSERT_EQ(state.bottomRows(batch).eval().data()[k], window10.data()[k]);
   }
 }
 
@@ -241,9 +238,11 @@ TEST(NnGru, ShapeErrorsNameTheTensor) {
   GruWorkspace ws;
   ws.reserve(gru, 2);
   MatrixRM state = MatrixRM::Zero(4, 8), out(2, 8);
-  expect_error([&] { gru_step(gru, MatrixRM::Zero(2, 6), state, ws); }, {"motion_encoder", "input x is 2x6", "expected anyx5"});
+  expect_error([&] { gru_step(gru, MatrixRM::Zero(2, 6), state, ws); },
+               {"motion_encoder", "input x is 2x6", "expected anyx5"});
   MatrixRM small_state = MatrixRM::Zero(2, 8), big_out = MatrixRM::Zero(6, 8);
-  expect_error([&] { gru_step(gru, MatrixRM::Zero(2, 5), small_state, ws); }, {"state is 2x8", "expected 4x8"});
+  expect_error([&] { gru_step(gru, MatrixRM::Zero(2, 5), small_state, ws); },
+               {"state is 2x8", "expected 4x8"});
   expect_error([&] { gru_window(gru, MatrixRM::Zero(7, 5), 2, out, ws); }, {"7 rows", "2 steps"});
   expect_error([&] { gru_window(gru, MatrixRM::Zero(12, 5), 2, big_out, ws); }, {"GruWorkspace"});
   Gru bad = gru;

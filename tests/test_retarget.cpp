@@ -19,8 +19,12 @@ using pleat::Points3d;
 
 namespace {
 
-std::string motions_dir() { return pleat_test::asset_dir() + "/motions"; }
-std::string map_path(const std::string& name) { return pleat_test::source_dir() + "/data/retarget/" + name; }
+std::string motions_dir() {
+  return pleat_test::asset_dir() + "/motions";
+}
+std::string map_path(const std::string& name) {
+  return pleat_test::source_dir() + "/data/retarget/" + name;
+}
 
 Motion walk_fixture() {
   return pleat::read_bvh(pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh").motion;
@@ -37,15 +41,17 @@ void expect_error(F f, pleat_status status, const std::string& needle) {
   }
 }
 
-double angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) { return a.angularDistance(b); }
+double angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  return a.angularDistance(b);
+}
 
 Eigen::Vector3d bone(const Points3d& p, int32_t from, int32_t to) {
   return (p.row(to) - p.row(from)).transpose().normalized();
 }
 
 // Largest angle (degrees) over all frames between the target bone a->b and the source bone sa->sb.
-double max_bone_angle(const Motion& source, const Motion& target, const std::string& sa, const std::string& sb,
-                      const std::string& ta, const std::string& tb) {
+double max_bone_angle(const Motion& source, const Motion& target, const std::string& sa,
+                      const std::string& sb, const std::string& ta, const std::string& tb) {
   const int32_t s0 = source.skeleton.find(sa), s1 = source.skeleton.find(sb);
   const int32_t t0 = target.skeleton.find(ta), t1 = target.skeleton.find(tb);
   EXPECT_TRUE(s0 >= 0 && s1 >= 0 && t0 >= 0 && t1 >= 0) << sa << sb << ta << tb;
@@ -62,7 +68,7 @@ double max_bone_angle(const Motion& source, const Motion& target, const std::str
 struct FootError {
   double max = 0;           // largest distance (metres) between the target joint and scale * the source joint
   double max_vertical = 0;  // largest |difference in y|
-  double max_from_mean = 0; // largest distance from the mean difference (trajectory shape)
+  double max_from_mean = 0;  // largest distance from the mean difference (trajectory shape)
   double target_min_y = 1e9;
 };
 
@@ -84,8 +90,8 @@ FootError foot_error(const Motion& source, const Motion& target, const std::stri
   return e;
 }
 
-double max_joint_distance(const Motion& source, const Motion& target, const std::string& s, const std::string& t,
-                          double scale) {
+double max_joint_distance(const Motion& source, const Motion& target, const std::string& s,
+                          const std::string& t, double scale) {
   return foot_error(source, target, s, t, scale).max;
 }
 
@@ -97,10 +103,13 @@ pleat::Skeleton cmu_mb_target() {
 }
 
 const char* const kCmuMbRig[] = {
-    "Hips", "LHipJoint", "LeftUpLeg", "LeftLeg", "LeftFoot", "LeftToeBase", "RHipJoint", "RightUpLeg",
-    "RightLeg", "RightFoot", "RightToeBase", "LowerBack", "Spine", "Spine1", "Neck", "Neck1", "Head",
-    "LeftShoulder", "LeftArm", "LeftForeArm", "LeftHand", "LeftFingerBase", "LeftHandFinger1", "LThumb",
-    "RightShoulder", "RightArm", "RightForeArm", "RightHand", "RightFingerBase", "RightHandFinger1", "RThumb"};
+    "Hips",         "LHipJoint",      "LeftUpLeg",       "LeftLeg",         "LeftFoot",
+    "LeftToeBase",  "RHipJoint",      "RightUpLeg",      "RightLeg",        "RightFoot",
+    "RightToeBase", "LowerBack",      "Spine",           "Spine1",          "Neck",
+    "Neck1",        "Head",           "LeftShoulder",    "LeftArm",         "LeftForeArm",
+    "LeftHand",     "LeftFingerBase", "LeftHandFinger1", "LThumb",          "RightShoulder",
+    "RightArm",     "RightForeArm",   "RightHand",       "RightFingerBase", "RightHandFinger1",
+    "RThumb"};
 
 }  // namespace
 
@@ -120,7 +129,8 @@ TEST(Resample, KeepsPoseAtMatchingTimes) {
   EXPECT_LT((pleat::joint_positions(h, 5) - pleat::joint_positions(m, 12)).cwiseAbs().maxCoeff(), 1e-12);
   for (int32_t j = 0; j < n; ++j)
     EXPECT_LT(angle(h.frame(1)[j], m.frame(2)[j].slerp(0.4, m.frame(3)[j])), 1e-9);
-  EXPECT_LT((h.root_translation.row(1) - (0.6 * m.root_translation.row(2) + 0.4 * m.root_translation.row(3))).norm(),
+  EXPECT_LT((h.root_translation.row(1) - (0.6 * m.root_translation.row(2) + 0.4 * m.root_translation.row(3)))
+                .norm(),
             1e-12);
   // Up and back down again.
   const Motion back = pleat::resample_motion(pleat::resample_motion(m, 240.0), 120.0);
@@ -230,7 +240,8 @@ TEST(Retarget, MappingFilesParseAndNameRigJoints) {
     ++files;
     const pleat::JointMap map = pleat::read_joint_map(entry.path().string());
     EXPECT_GE(map.entries.size(), 2u) << entry.path();
-    for (const auto& e : map.entries) EXPECT_TRUE(rig.count(e.target)) << entry.path() << ":" << e.line << " " << e.target;
+    for (const auto& e : map.entries)
+      EXPECT_TRUE(rig.count(e.target)) << entry.path() << ":" << e.line << " " << e.target;
   }
   EXPECT_EQ(files, 6);
 }
@@ -250,10 +261,14 @@ TEST(Retarget, DazWalkByMappingFile) {
   EXPECT_GT(report.root_scale, 0.8);
   EXPECT_LT(report.root_scale, 1.2);
   const std::pair<const char*, const char*> bones[][2] = {
-      {{"lThigh", "lShin"}, {"LeftUpLeg", "LeftLeg"}},       {{"lShin", "lFoot"}, {"LeftLeg", "LeftFoot"}},
-      {{"rThigh", "rShin"}, {"RightUpLeg", "RightLeg"}},     {{"rShin", "rFoot"}, {"RightLeg", "RightFoot"}},
-      {{"lShldr", "lForeArm"}, {"LeftArm", "LeftForeArm"}}, {{"lForeArm", "lHand"}, {"LeftForeArm", "LeftHand"}},
-      {{"rShldr", "rForeArm"}, {"RightArm", "RightForeArm"}}, {{"neck", "head"}, {"Neck", "Head"}}};
+      {{"lThigh", "lShin"}, {"LeftUpLeg", "LeftLeg"}},
+      {{"lShin", "lFoot"}, {"LeftLeg", "LeftFoot"}},
+      {{"rThigh", "rShin"}, {"RightUpLeg", "RightLeg"}},
+      {{"rShin", "rFoot"}, {"RightLeg", "RightFoot"}},
+      {{"lShldr", "lForeArm"}, {"LeftArm", "LeftForeArm"}},
+      {{"lForeArm", "lHand"}, {"LeftForeArm", "LeftHand"}},
+      {{"rShldr", "rForeArm"}, {"RightArm", "RightForeArm"}},
+      {{"neck", "head"}, {"Neck", "Head"}}};
   for (const auto& b : bones)
     EXPECT_LT(max_bone_angle(daz, r, b[0].first, b[0].second, b[1].first, b[1].second), 0.5) << b[1].first;
   // Feet follow the scaled source feet. The two skeletons differ in
@@ -261,7 +276,8 @@ TEST(Retarget, DazWalkByMappingFile) {
   // Hips are ~6 cm behind them, Daz's hip ~1 cm in front), so the ankles keep a
   // constant offset of ~7 cm forward; heights and trajectory shapes agree to a
   // few cm (measured: 2.7 cm vertical, 6.5 cm around the mean offset).
-  for (const auto& [s, t] : {std::pair<const char*, const char*>{"lFoot", "LeftFoot"}, {"rFoot", "RightFoot"}}) {
+  for (const auto& [s, t] :
+       {std::pair<const char*, const char*>{"lFoot", "LeftFoot"}, {"rFoot", "RightFoot"}}) {
     const FootError e = foot_error(daz, r, s, t, report.root_scale);
     EXPECT_LT(e.max_vertical, 0.04) << t;
     EXPECT_LT(e.max_from_mean, 0.08) << t;
@@ -307,7 +323,8 @@ TEST(Retarget, BadInputs) {
   const Motion m = walk_fixture();
   const auto I = PLEAT_ERROR_INVALID_ARGUMENT;
   // Unknown names in a mapping file, naming the line.
-  const pleat::JointMap unknown_target = pleat::parse_joint_map("Hips Hips\n# c\nLeftUpLeg NoSuchJoint\n", "m.txt");
+  const pleat::JointMap unknown_target =
+      pleat::parse_joint_map("Hips Hips\n# c\nLeftUpLeg NoSuchJoint\n", "m.txt");
   pleat::RetargetOptions options;
   options.map = &unknown_target;
   expect_error([&] { pleat::retarget_motion(m, m.skeleton, options); }, I,
@@ -321,17 +338,20 @@ TEST(Retarget, BadInputs) {
   pleat::retarget_motion(m, m.skeleton, options, &report);
   EXPECT_EQ(report.skipped_lines.size(), 1u);
   // Malformed mapping files.
-  expect_error([] { pleat::parse_joint_map("a b\nc d e\n", "m.txt"); }, PLEAT_ERROR_FORMAT, "m.txt:2: expected");
+  expect_error([] { pleat::parse_joint_map("a b\nc d e\n", "m.txt"); }, PLEAT_ERROR_FORMAT,
+               "m.txt:2: expected");
   expect_error([] { pleat::parse_joint_map("a b\nc b\n", "m.txt"); }, PLEAT_ERROR_FORMAT,
                "m.txt:2: target joint 'b' already mapped on line 1");
-  expect_error([] { pleat::parse_joint_map("a||x b\n", "m.txt"); }, PLEAT_ERROR_FORMAT, "m.txt:1: empty source name");
+  expect_error([] { pleat::parse_joint_map("a||x b\n", "m.txt"); }, PLEAT_ERROR_FORMAT,
+               "m.txt:1: empty source name");
   expect_error([] { pleat::read_joint_map("/nonexistent/map.txt"); }, PLEAT_ERROR_IO, "/nonexistent/map.txt");
   // An unpaired target root.
   const pleat::JointMap no_root = pleat::parse_joint_map("LeftUpLeg LeftUpLeg\n", "m.txt");
   options = {};
   options.map = &no_root;
   options.match_equal_names = false;
-  expect_error([&] { pleat::retarget_motion(m, m.skeleton, options); }, I, "target root 'Hips' has no source joint");
+  expect_error([&] { pleat::retarget_motion(m, m.skeleton, options); }, I,
+               "target root 'Hips' has no source joint");
   // A NaN rotation in the motion.
   Motion bad = m;
   bad.rotations[3 * static_cast<size_t>(m.skeleton.joint_count()) + 2].x() = NAN;
@@ -341,7 +361,8 @@ TEST(Retarget, BadInputs) {
   // A cycle in the hierarchy.
   pleat::Skeleton cyclic = m.skeleton;
   cyclic.parents[2] = 3;
-  expect_error([&] { pleat::validate_skeleton(cyclic, "cyclic"); }, I, "cyclic: joint 2 'LeftUpLeg' has parent 3");
+  expect_error([&] { pleat::validate_skeleton(cyclic, "cyclic"); }, I,
+               "cyclic: joint 2 'LeftUpLeg' has parent 3");
   expect_error([&] { pleat::retarget_motion(m, cyclic); }, I, "parents must come first");
 }
 
@@ -383,6 +404,7 @@ TEST(Mirror, ReflectsASymmetricSkeleton) {
     }
   }
   const Motion twice = pleat::mirror_motion(mirrored);
-  for (size_t k = 0; k < m.rotations.size(); ++k) ASSERT_EQ(twice.rotations[k].coeffs(), m.rotations[k].coeffs());
+  for (size_t k = 0; k < m.rotations.size(); ++k)
+    ASSERT_EQ(twice.rotations[k].coeffs(), m.rotations[k].coeffs());
   EXPECT_EQ(twice.root_translation, m.root_translation);
 }

@@ -88,7 +88,8 @@ pleat::Quaternions random_pose(int joints, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   pleat::Quaternions q;
-  for (int j = 0; j < joints; ++j) q.push_back(Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized());
+  for (int j = 0; j < joints; ++j)
+    q.push_back(Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized());
   return q;
 }
 
@@ -105,10 +106,10 @@ TEST(Skinning, TwoJointChainByHand) {
   EXPECT_LT((global[1] * Eigen::Vector3d(1, 0, 0) - Eigen::Vector3d(1, 1, 0)).norm(), 1e-15);
 
   Points3d rest(4, 3);
-  rest << 0.5, 0, 0,   // root only: stays
-      2, 0, 0,         // tip only: (1, 0, 0) + Rz90 (1, 0, 0) = (1, 1, 0)
-      1.5, 0, 0,       // half/half: 0.5 (1.5, 0, 0) + 0.5 (1, 0.5, 0) = (1.25, 0.25, 0)
-      1.5, 0.2, 0.3;   // tip only: (1, 0, 0) + Rz90 (0.5, 0.2, 0.3) = (0.8, 0.5, 0.3)
+  rest << 0.5, 0, 0,  // root only: stays
+      2, 0, 0,        // tip only: (1, 0, 0) + Rz90 (1, 0, 0) = (1, 1, 0)
+      1.5, 0, 0,      // half/half: 0.5 (1.5, 0, 0) + 0.5 (1, 0.5, 0) = (1.25, 0.25, 0)
+      1.5, 0.2, 0.3;  // tip only: (1, 0, 0) + Rz90 (0.5, 0.2, 0.3) = (0.8, 0.5, 0.3)
   const SkinWeights w = weights_of(2, {{{0, 1.0}}, {{1, 1.0}}, {{0, 0.5}, {1, 0.5}}, {{1, 1.0}}});
   pleat::validate_skin_weights(w, 4, "chain");
   pleat::SkinMatrices m;
@@ -182,18 +183,36 @@ TEST(Skinning, TopKKeepsLargestAndRenormalises) {
 
 TEST(Skinning, ValidationNamesVertexAndSum) {
   const auto I = PLEAT_ERROR_INVALID_ARGUMENT;
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{0, 1.0}}, {{0, 0.5}, {1, 0.4}}}), 2, "w"); }, I,
-               "w: vertex 1: weights sum to 0.900000");
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{0, 0.5}, {2, 0.5}}}), 1, "w"); }, I,
-               "w: vertex 0: joint index 2 out of range");
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{0, 1.5}, {1, -0.5}}}), 1, "w"); }, I,
-               "w: vertex 0: weight -0.5");
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{0, NAN}, {1, 1.0}}}), 1, "w"); }, I,
-               "w: vertex 0: weight nan");
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{1, 0.5}, {0, 0.5}}}), 1, "w"); }, I,
-               "not ascending");
-  expect_error([] { pleat::validate_skin_weights(weights_of(2, {{{0, 1.0}}}), 3, "w"); }, I,
-               "weights for 1 vertices, mesh has 3");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{0, 1.0}}, {{0, 0.5}, {1, 0.4}}}), 2, "w");
+      },
+      I, "w: vertex 1: weights sum to 0.900000");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{0, 0.5}, {2, 0.5}}}), 1, "w");
+      },
+      I, "w: vertex 0: joint index 2 out of range");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{0, 1.5}, {1, -0.5}}}), 1, "w");
+      },
+      I, "w: vertex 0: weight -0.5");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{0, NAN}, {1, 1.0}}}), 1, "w");
+      },
+      I, "w: vertex 0: weight nan");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{1, 0.5}, {0, 0.5}}}), 1, "w");
+      },
+      I, "not ascending");
+  expect_error(
+      [] {
+        pleat::validate_skin_weights(weights_of(2, {{{0, 1.0}}}), 3, "w");
+      },
+      I, "weights for 1 vertices, mesh has 3");
   // Within 1e-3 passes.
   pleat::validate_skin_weights(weights_of(2, {{{0, 0.5}, {1, 0.5009}}}), 1, "w");
   // normalize: merges, sorts, drops zeros, rescales; a vertex with nothing is an error.
@@ -202,7 +221,8 @@ TEST(Skinning, ValidationNamesVertexAndSum) {
   EXPECT_EQ(w.joints, (std::vector<int32_t>{0, 2}));
   EXPECT_EQ(w.weights, (std::vector<double>{0.5, 0.5}));
   SkinWeights empty = weights_of(3, {{{0, 1.0}}, {{1, 0.0}}});
-  expect_error([&] { pleat::normalize_skin_weights(&empty, "load"); }, I, "load: vertex 1: no positive weight");
+  expect_error([&] { pleat::normalize_skin_weights(&empty, "load"); }, I,
+               "load: vertex 1: no positive weight");
 }
 
 TEST(Skinning, BatchedFramesMatchSingleFrames) {
@@ -222,7 +242,8 @@ TEST(Skinning, BatchedFramesMatchSingleFrames) {
   pleat::skin_frames(rest_f, r.weights, motion, 1, 3, &ws, out.data(), out.size());
   for (int f = 1; f < 4; ++f) {
     pleat::Transforms global;
-    pleat::forward_kinematics(r.skeleton, motion.frame(f), motion.root_translation.row(f).transpose(), &global);
+    pleat::forward_kinematics(r.skeleton, motion.frame(f), motion.root_translation.row(f).transpose(),
+                              &global);
     pleat::SkinMatrices m;
     pleat::skinning_matrices(global, pleat::rest_transforms(r.skeleton), &m);
     pleat::Points3f posed;

@@ -92,7 +92,7 @@ TEST(SpectralBands, NearestGapCut) {
   EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 5, 1, 1e-5), 4);
   EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 1, 3, 1e-5), 4);  // min_cut respected
   EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 7, 1, 1e-5), 7);
-  EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 6, 5, 1e-5), 7);  // 6 is no gap, 7 is
+  EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 6, 5, 1e-5), 7);   // 6 is no gap, 7 is
   EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 8, 5, 1e-5), -1);  // 8 may be a gap: unknown
   EXPECT_EQ(pleat::nearest_gap_cut(values, 100, 9, 8, 1e-5), -1);  // needs lambda[9]
   EXPECT_EQ(pleat::nearest_gap_cut(values, 8, 8, 8, 1e-5), 8);     // all of the spectrum

@@ -46,11 +46,10 @@ TEST(SpectralScipy, EigenvaluesAndBandsMatch) {
     }
     const int count = static_cast<int>(basis.eigenvalues.size());
     std::string output;
-    const std::string command = std::string(python) + " " + pleat_test::source_dir() +
-                                "/tests/spectral/scipy_reference.py " + dir + "/edges.txt " + dir +
-                                "/positions.txt " + std::to_string(n) + " " +
-                                std::to_string(count) + " " + std::to_string(basis.low_count) +
-                                " " + std::to_string(basis.mid_count) + " " + dir;
+    const std::string command =
+        std::string(python) + " " + pleat_test::source_dir() + "/tests/spectral/scipy_reference.py " + dir +
+        "/edges.txt " + dir + "/positions.txt " + std::to_string(n) + " " + std::to_string(count) + " " +
+        std::to_string(basis.low_count) + " " + std::to_string(basis.mid_count) + " " + dir;
     ASSERT_EQ(pleat_test::run_command(command, &output), 0) << command << "\n" << output;
 
     const std::vector<double> values = read_numbers(dir + "/eigenvalues.txt");

@@ -46,8 +46,7 @@ Case sphere() {
 }
 
 // Low and mid band of X (symmetric and random-walk, whichever the basis has).
-void bands(const BandBasis<double>& b, const pleat::Points3d& x, pleat::Points3d* low,
-           pleat::Points3d* mid) {
+void bands(const BandBasis<double>& b, const pleat::Points3d& x, pleat::Points3d* low, pleat::Points3d* mid) {
   low->resize(x.rows(), 3);
   mid->resize(x.rows(), 3);
   pleat::split_bands<double>(b, x.data(), 1, 0, low->data(), 0, mid->data(), 0, nullptr, 0);
@@ -62,8 +61,8 @@ BandBasis<double> solve(const Case& c, SolverKind kind, pleat::ProjectionForm fo
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   std::printf("%-9s solver %u: N %d low %d/%d mid %d/%d gaps %.3g %.3g  %.0f ms\n", c.name.c_str(),
-              static_cast<unsigned>(kind), b.vertex_count, b.low_count, b.low_requested,
-              b.mid_count, b.mid_requested, b.low_gap, b.mid_gap, ms);
+              static_cast<unsigned>(kind), b.vertex_count, b.low_count, b.low_requested, b.mid_count,
+              b.mid_requested, b.low_gap, b.mid_gap, ms);
   return b;
 }
 
@@ -95,18 +94,25 @@ void expect_agree(const Case& c) {
   }
 }
 
-TEST(SpectralSolvers, AgreeOnGrid) { expect_agree(plain_grid()); }
-TEST(SpectralSolvers, AgreeOnMirroredPanels) { expect_agree(mirrored_panels()); }
-TEST(SpectralSolvers, AgreeWithIsolatedVertices) { expect_agree(with_isolated()); }
-TEST(SpectralSolvers, AgreeOnSphere) { expect_agree(sphere()); }
+TEST(SpectralSolvers, AgreeOnGrid) {
+  expect_agree(plain_grid());
+}
+TEST(SpectralSolvers, AgreeOnMirroredPanels) {
+  expect_agree(mirrored_panels());
+}
+TEST(SpectralSolvers, AgreeWithIsolatedVertices) {
+  expect_agree(with_isolated());
+}
+TEST(SpectralSolvers, AgreeOnSphere) {
+  expect_agree(sphere());
+}
 
 TEST(SpectralSolvers, ResidualsAreTight) {
   const Case c = sphere();
   const auto laplacian = pleat::normalized_laplacian(c.graph);
   for (auto kind : {SolverKind::dense, SolverKind::slicing, SolverKind::hybrid}) {
     const pleat::EigenPairs pairs = pleat::solve_lowest(laplacian, 140, kind);
-    EXPECT_LT(pleat::max_residual(laplacian, pairs), pleat::kResidualTolerance)
-        << static_cast<int>(kind);
+    EXPECT_LT(pleat::max_residual(laplacian, pairs), pleat::kResidualTolerance) << static_cast<int>(kind);
   }
 }
 
@@ -128,10 +134,8 @@ TEST(SpectralSolvers, SlicingIsIdenticalForAnyWorkerCount) {
 }
 
 TEST(SpectralSolvers, AutomaticPicksDenseForSmallMeshes) {
-  EXPECT_EQ(pleat::resolve_solver(SolverKind::automatic, pleat::kDenseSolverLimit - 1),
-            SolverKind::dense);
-  EXPECT_EQ(pleat::resolve_solver(SolverKind::automatic, pleat::kDenseSolverLimit),
-            SolverKind::slicing);
+  EXPECT_EQ(pleat::resolve_solver(SolverKind::automatic, pleat::kDenseSolverLimit - 1), SolverKind::dense);
+  EXPECT_EQ(pleat::resolve_solver(SolverKind::automatic, pleat::kDenseSolverLimit), SolverKind::slicing);
   EXPECT_EQ(pleat::resolve_solver(SolverKind::hybrid, 10), SolverKind::hybrid);
 }
 

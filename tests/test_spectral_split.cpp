@@ -99,9 +99,10 @@ TEST(SpectralSplit, TranslationStaysLowOnlyInRandomWalkForm) {
   const Split sym_moved = split(basis(ProjectionForm::symmetric), moved);
   const double leak_high = (sym_moved.high - sym.high).norm();
   const double leak_mid = (sym_moved.mid - sym.mid).norm();
-  std::printf("symmetric form, shift |t| = %.2f on %zu vertices: |dX^h| = %.3f (|X^h| = %.3f), "
-              "|dX^m| = %.3f\n",
-              shift.norm(), mesh().vertex_count(), leak_high, sym.high.norm(), leak_mid);
+  std::printf(
+      "symmetric form, shift |t| = %.2f on %zu vertices: |dX^h| = %.3f (|X^h| = %.3f), "
+      "|dX^m| = %.3f\n",
+      shift.norm(), mesh().vertex_count(), leak_high, sym.high.norm(), leak_mid);
   EXPECT_GT(leak_high, 1e-2 * shift.norm());
 }
 
@@ -110,14 +111,13 @@ TEST(SpectralSplit, BatchedStridesAndSkippedOutputs) {
   const pleat::Points3d x = wavy();
   const size_t n3 = static_cast<size_t>(x.size());
   const size_t frames = 3, in_stride = n3 + 5, out_stride = n3 + 2;
-  std::vector<double> in(frames * in_stride, -1.0), high(frames * out_stride, -7.0),
-      low(frames * n3);
+  std::vector<double> in(frames * in_stride, -1.0), high(frames * out_stride, -7.0), low(frames * n3);
   for (size_t f = 0; f < frames; ++f)
     for (size_t i = 0; i < n3; ++i) in[f * in_stride + i] = x.data()[i] * (1.0 + f);
   pleat::BandSplitScratch<double> scratch;
   for (int repeat = 0; repeat < 2; ++repeat) {  // scratch reuse gives the same result
-    pleat::split_bands<double>(b, in.data(), frames, in_stride, low.data(), n3, nullptr, 0,
-                               high.data(), out_stride, &scratch);
+    pleat::split_bands<double>(b, in.data(), frames, in_stride, low.data(), n3, nullptr, 0, high.data(),
+                               out_stride, &scratch);
     const Split one = split(b, x);
     for (size_t f = 0; f < frames; ++f) {
       Eigen::Map<const pleat::Points3d> hf(high.data() + f * out_stride, x.rows(), 3);

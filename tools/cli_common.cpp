@@ -62,7 +62,8 @@ void print_report(const pleat_mesh_report& r) {
   std::printf("mesh\n");
   std::printf("  vertices            %u (from %u in the file, %u welded)\n", r.vertex_count,
               r.input_vertex_count, r.welded_vertex_count);
-  std::printf("  triangles           %u (%u degenerate dropped)\n", r.triangle_count, r.degenerate_triangle_count);
+  std::printf("  triangles           %u (%u degenerate dropped)\n", r.triangle_count,
+              r.degenerate_triangle_count);
   std::printf("  components          %u\n", r.component_count);
   std::printf("  boundary loops      %u\n", r.boundary_loop_count);
   std::printf("  non-manifold edges  %u\n", r.non_manifold_edge_count);
@@ -79,8 +80,10 @@ void print_band_info(const pleat_band_info& b) {
   std::printf("bands\n");
   std::printf("  solver              %s\n", b.solver <= 3 ? solvers[b.solver] : "?");
   std::printf("  projection          %s\n", b.projection <= 1 ? forms[b.projection] : "?");
-  std::printf("  low eigenvectors    %u (requested %u, gap %.3g)\n", b.low_count, b.low_count_requested, b.low_gap);
-  std::printf("  mid eigenvectors    %u (requested %u, gap %.3g)\n", b.mid_count, b.mid_count_requested, b.mid_gap);
+  std::printf("  low eigenvectors    %u (requested %u, gap %.3g)\n", b.low_count, b.low_count_requested,
+              b.low_gap);
+  std::printf("  mid eigenvectors    %u (requested %u, gap %.3g)\n", b.mid_count, b.mid_count_requested,
+              b.mid_gap);
   std::printf("  geodesic radius     %.3g m, %llu neighbour pairs\n", b.geodesic_radius,
               static_cast<unsigned long long>(b.geodesic_pair_count));
 }

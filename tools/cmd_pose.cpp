@@ -29,8 +29,10 @@ void apply_shape(pleat_body* body, const std::string& spec) {
     while (i < info.shape_count && name != pleat_body_shape_name(body, i)) ++i;
     if (i == info.shape_count) {
       std::string known;
-      for (uint32_t k = 0; k < info.shape_count; ++k) known += std::string(k ? ", " : "") + pleat_body_shape_name(body, k);
-      throw CliError{"--shape: unknown entry '" + name + "'; the body has: " + (known.empty() ? "none" : known), 2};
+      for (uint32_t k = 0; k < info.shape_count; ++k)
+        known += std::string(k ? ", " : "") + pleat_body_shape_name(body, k);
+      throw CliError{
+          "--shape: unknown entry '" + name + "'; the body has: " + (known.empty() ? "none" : known), 2};
     }
     Args one;
     one.options["v"] = item.substr(eq + 1);
@@ -47,7 +49,8 @@ int run_pose(const Args& args) {
   pleat_body_load_options bo{};
   bo.struct_size = sizeof bo;
   const std::string rig = args.get("rig", "cmu_mb");
-  if (rig != "cmu_mb" && rig != "default") throw CliError{"--rig must be cmu_mb or default, got '" + rig + "'", 2};
+  if (rig != "cmu_mb" && rig != "default")
+    throw CliError{"--rig must be cmu_mb or default, got '" + rig + "'", 2};
   bo.rig = rig == "cmu_mb" ? PLEAT_RIG_CMU_MB : PLEAT_RIG_MAKEHUMAN_DEFAULT;
   pleat_body* b = nullptr;
   check(pleat_body_load(args.get("body").c_str(), &bo, &b), "loading the body '" + args.get("body") + "'");
@@ -55,7 +58,8 @@ int run_pose(const Args& args) {
   if (args.has("shape")) apply_shape(body.get(), args.get("shape"));
 
   pleat_motion* m = nullptr;
-  check(pleat_motion_load(args.get("motion").c_str(), nullptr, &m), "loading the motion '" + args.get("motion") + "'");
+  check(pleat_motion_load(args.get("motion").c_str(), nullptr, &m),
+        "loading the motion '" + args.get("motion") + "'");
   MotionPtr source(m, pleat_motion_destroy);
   const double fps = args.number("fps", 30.0);
   check(pleat_motion_resample(source.get(), fps, &m), "resampling to " + std::to_string(fps) + " fps");
@@ -75,8 +79,9 @@ int run_pose(const Args& args) {
   const size_t available = mi.frame_count > first ? mi.frame_count - first : 0;
   const size_t count = args.has("frames") ? static_cast<size_t>(args.number("frames", 0)) : available;
   if (count == 0 || count > available)
-    throw CliError{"frames [" + std::to_string(first) + ", " + std::to_string(first + count) + ") are outside the " +
-                       std::to_string(mi.frame_count) + " frames at " + std::to_string(fps) + " fps",
+    throw CliError{"frames [" + std::to_string(first) + ", " + std::to_string(first + count) +
+                       ") are outside the " + std::to_string(mi.frame_count) + " frames at " +
+                       std::to_string(fps) + " fps",
                    2};
 
   const size_t n = info.vertex_count;
@@ -89,16 +94,19 @@ int run_pose(const Args& args) {
     std::fprintf(stderr, "\rposed %zu / %zu frames", f + c, count);
   }
   std::fprintf(stderr, "\n");
-  check(pleat_cache_write(args.get("output").c_str(), PLEAT_CACHE_AUTO, nullptr, {frames.data(), 0}, count, n, fps),
+  check(pleat_cache_write(args.get("output").c_str(), PLEAT_CACHE_AUTO, nullptr, {frames.data(), 0}, count, n,
+                          fps),
         "writing '" + args.get("output") + "'");
   std::printf("wrote %s: %zu frames of %zu vertices at %g fps\n", args.get("output").c_str(), count, n, fps);
 
   if (args.has("rest-obj")) {
     std::vector<float> rest(n * 3);
     std::vector<uint32_t> triangles(info.triangle_count * size_t{3});
-    check(pleat_body_get_rest(body.get(), rest.data(), rest.size(), triangles.data(), triangles.size(), nullptr, 0),
+    check(pleat_body_get_rest(body.get(), rest.data(), rest.size(), triangles.data(), triangles.size(),
+                              nullptr, 0),
           "reading the rest body");
-    check(pleat_mesh_write_obj(args.get("rest-obj").c_str(), rest.data(), n, triangles.data(), info.triangle_count),
+    check(pleat_mesh_write_obj(args.get("rest-obj").c_str(), rest.data(), n, triangles.data(),
+                               info.triangle_count),
           "writing '" + args.get("rest-obj") + "'");
     std::printf("wrote %s\n", args.get("rest-obj").c_str());
   }

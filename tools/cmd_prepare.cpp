@@ -61,7 +61,8 @@ int run_prepare(const Args& args) {
   std::printf("prepared in %.3f s\n", seconds);
 
   if (args.has("output")) {
-    check(pleat_garment_save(garment.get(), args.get("output").c_str()), "saving '" + args.get("output") + "'");
+    check(pleat_garment_save(garment.get(), args.get("output").c_str()),
+          "saving '" + args.get("output") + "'");
     std::printf("wrote %s\n", args.get("output").c_str());
   }
   return 0;

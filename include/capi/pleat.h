@@ -42,8 +42,7 @@ extern "C" {
 #define PLEAT_VERSION_PATCH 0
 #define PLEAT_VERSION_STRING "0.1.0"
 /* (major << 16) | (minor << 8) | patch, as returned by pleat_version(). */
-#define PLEAT_VERSION_NUMBER                                                   \
-  ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
+#define PLEAT_VERSION_NUMBER ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
 /* Version of the function table returned by pleat_get_api(). */
 #define PLEAT_API_VERSION 1u
 
@@ -51,10 +50,10 @@ extern "C" {
 
 typedef int32_t pleat_status;
 #define PLEAT_OK 0
-#define PLEAT_ERROR_INVALID_ARGUMENT 1 /* NULL pointer, bad size, bad option */
-#define PLEAT_ERROR_IO 2               /* file missing, unreadable, unwritable */
-#define PLEAT_ERROR_FORMAT 3           /* file content malformed or truncated */
-#define PLEAT_ERROR_INVALID_MESH 4     /* mesh cannot be used (empty, NaN, ...) */
+#define PLEAT_ERROR_INVALID_ARGUMENT 1    /* NULL pointer, bad size, bad option */
+#define PLEAT_ERROR_IO 2                  /* file missing, unreadable, unwritable */
+#define PLEAT_ERROR_FORMAT 3              /* file content malformed or truncated */
+#define PLEAT_ERROR_INVALID_MESH 4        /* mesh cannot be used (empty, NaN, ...) */
 #define PLEAT_ERROR_UNSUPPORTED_VERSION 5 /* file written by a newer pleat */
 #define PLEAT_ERROR_OUT_OF_MEMORY 6
 #define PLEAT_ERROR_BUFFER_TOO_SMALL 7 /* caller buffer smaller than required */
@@ -100,16 +99,16 @@ typedef struct pleat_garment_load_options {
 /* What loading found. Counts refer to the mesh as loaded (after welding). */
 typedef struct pleat_mesh_report {
   uint32_t struct_size;
-  uint32_t input_vertex_count;      /* vertices in the source, before welding */
-  uint32_t vertex_count;            /* graph vertices after welding */
-  uint32_t triangle_count;          /* usable triangles kept */
-  uint32_t welded_vertex_count;     /* duplicates merged into another vertex */
-  uint32_t component_count;         /* connected components of the edge graph */
-  uint32_t boundary_loop_count;     /* closed loops of boundary edges */
-  uint32_t non_manifold_edge_count; /* edges shared by three or more triangles */
+  uint32_t input_vertex_count;        /* vertices in the source, before welding */
+  uint32_t vertex_count;              /* graph vertices after welding */
+  uint32_t triangle_count;            /* usable triangles kept */
+  uint32_t welded_vertex_count;       /* duplicates merged into another vertex */
+  uint32_t component_count;           /* connected components of the edge graph */
+  uint32_t boundary_loop_count;       /* closed loops of boundary edges */
+  uint32_t non_manifold_edge_count;   /* edges shared by three or more triangles */
   uint32_t degenerate_triangle_count; /* zero-area or repeated-index, dropped */
-  uint32_t isolated_vertex_count;   /* vertices used by no triangle */
-  uint32_t units;                   /* PLEAT_UNITS_* guess from the size */
+  uint32_t isolated_vertex_count;     /* vertices used by no triangle */
+  uint32_t units;                     /* PLEAT_UNITS_* guess from the size */
   uint32_t reserved;
   float bbox_min[3];
   float bbox_max[3];
@@ -131,9 +130,9 @@ typedef struct pleat_prepare_options {
   uint32_t solver;     /* PLEAT_SOLVER_*; 0 = auto */
   uint32_t projection; /* PLEAT_PROJECTION_*; 0 = random walk */
   uint32_t reserved;
-  double low_fraction;      /* low/mid cut at ceil(N * f); 0 = 1/30 */
-  double mid_fraction;      /* mid/high cut at ceil(N * f); 0 = 1/5 */
-  double geodesic_radius;   /* metres; rest-pose neighbourhood radius; 0 = 0.10 */
+  double low_fraction;    /* low/mid cut at ceil(N * f); 0 = 1/30 */
+  double mid_fraction;    /* mid/high cut at ceil(N * f); 0 = 1/5 */
+  double geodesic_radius; /* metres; rest-pose neighbourhood radius; 0 = 0.10 */
 } pleat_prepare_options;
 
 typedef struct pleat_band_info {
@@ -152,11 +151,11 @@ typedef struct pleat_band_info {
 } pleat_band_info;
 
 /* Metric selection (pleat_metrics_options.flags); 0 = all that apply. */
-#define PLEAT_METRIC_VERTEX 0x1u         /* E_verts */
-#define PLEAT_METRIC_NORMALS 0x2u        /* E_vnorm, E_fnorm */
-#define PLEAT_METRIC_EDGES 0x4u          /* E_edge */
-#define PLEAT_METRIC_CURVATURE 0x8u      /* E_curv */
-#define PLEAT_METRIC_BANDS 0x10u         /* per-band E_verts (needs prepare) */
+#define PLEAT_METRIC_VERTEX 0x1u          /* E_verts */
+#define PLEAT_METRIC_NORMALS 0x2u         /* E_vnorm, E_fnorm */
+#define PLEAT_METRIC_EDGES 0x4u           /* E_edge */
+#define PLEAT_METRIC_CURVATURE 0x8u       /* E_curv */
+#define PLEAT_METRIC_BANDS 0x10u          /* per-band E_verts (needs prepare) */
 #define PLEAT_METRIC_SELF_COLLISION 0x20u /* self-collision rate of predicted */
 
 typedef struct pleat_metrics_options {
@@ -169,32 +168,32 @@ typedef struct pleat_metrics_options {
    are 0 and their bit is clear in `computed`. */
 typedef struct pleat_metrics {
   uint32_t struct_size;
-  uint32_t computed;          /* PLEAT_METRIC_* bits actually computed */
+  uint32_t computed; /* PLEAT_METRIC_* bits actually computed */
   uint64_t frame_count;
-  double e_verts_cm;          /* mean vertex distance */
-  double e_vnorm_deg;         /* mean angle between vertex normals */
-  double e_fnorm_deg;         /* mean angle between face normals */
-  double e_edge_percent;      /* mean relative edge-length error */
-  double e_curv;              /* mean |K_pred - K_truth|, K in 1/m^2 */
-  double e_low_cm;            /* per-band mean vertex distance */
+  double e_verts_cm;     /* mean vertex distance */
+  double e_vnorm_deg;    /* mean angle between vertex normals */
+  double e_fnorm_deg;    /* mean angle between face normals */
+  double e_edge_percent; /* mean relative edge-length error */
+  double e_curv;         /* mean |K_pred - K_truth|, K in 1/m^2 */
+  double e_low_cm;       /* per-band mean vertex distance */
   double e_mid_cm;
   double e_high_cm;
   double self_collision_percent; /* faces crossed by a non-adjacent edge */
 } pleat_metrics;
 
 /* Point-cache formats for pleat_cache_write / pleat_cache_read. */
-#define PLEAT_CACHE_AUTO 0    /* from the extension: .pc2, .mdd, else OBJ sequence */
+#define PLEAT_CACHE_AUTO 0 /* from the extension: .pc2, .mdd, else OBJ sequence */
 #define PLEAT_CACHE_PC2 1
 #define PLEAT_CACHE_MDD 2
 #define PLEAT_CACHE_OBJ_SEQUENCE 3 /* path holds a run of '#' for the frame number */
 
 typedef struct pleat_cache_info {
   uint32_t struct_size;
-  uint32_t format;      /* PLEAT_CACHE_* */
+  uint32_t format; /* PLEAT_CACHE_* */
   uint64_t frame_count;
   uint64_t vertex_count;
-  double frame_rate;    /* frames per second */
-  double start_time;    /* seconds */
+  double frame_rate; /* frames per second */
+  double start_time; /* seconds */
 } pleat_cache_info;
 
 /* Body sources (pleat_body_load_options.kind). */
@@ -204,8 +203,8 @@ typedef struct pleat_cache_info {
 #define PLEAT_BODY_RIGGED_MESH 3 /* any skinned character: FBX, glTF (through assimp) */
 
 /* MakeHuman rigs (pleat_body_load_options.rig). */
-#define PLEAT_RIG_CMU_MB 0              /* 31 joints named like the CMU BVH clips */
-#define PLEAT_RIG_MAKEHUMAN_DEFAULT 1   /* MakeHuman's default 163-bone skeleton */
+#define PLEAT_RIG_CMU_MB 0            /* 31 joints named like the CMU BVH clips */
+#define PLEAT_RIG_MAKEHUMAN_DEFAULT 1 /* MakeHuman's default 163-bone skeleton */
 
 typedef struct pleat_body_load_options {
   uint32_t struct_size;
@@ -219,8 +218,8 @@ typedef struct pleat_body_info {
   uint32_t vertex_count;
   uint32_t triangle_count;
   uint32_t joint_count;
-  uint32_t shape_count;     /* entries of the shape vector (0: fixed shape) */
-  uint32_t max_influences;  /* most joints weighting one vertex */
+  uint32_t shape_count;    /* entries of the shape vector (0: fixed shape) */
+  uint32_t max_influences; /* most joints weighting one vertex */
 } pleat_body_info;
 
 typedef struct pleat_motion_load_options {
@@ -258,8 +257,7 @@ PLEAT_EXPORT const char* pleat_status_name(pleat_status status);
    the validation report. Fails with PLEAT_ERROR_INVALID_MESH only where the
    mesh cannot be used (no triangles, non-finite coordinates).
    Thread-safe (no shared state). */
-PLEAT_EXPORT pleat_status pleat_garment_load(const char* path,
-                                             const pleat_garment_load_options* options,
+PLEAT_EXPORT pleat_status pleat_garment_load(const char* path, const pleat_garment_load_options* options,
                                              pleat_garment** out_garment);
 
 /* Same from caller arrays: vertex_count xyz floats, triangle_count index
@@ -279,15 +277,14 @@ PLEAT_EXPORT pleat_status pleat_garment_get_report(const pleat_garment* garment,
 /* Copies the welded rest positions (vertex_count * 3 floats) and triangles
    (triangle_count * 3 indices); either output may be NULL. Capacities are in
    elements (floats, indices). Thread-safe on a shared garment. */
-PLEAT_EXPORT pleat_status pleat_garment_get_mesh(const pleat_garment* garment,
-                                                 float* positions, size_t positions_capacity,
-                                                 uint32_t* triangles, size_t triangles_capacity);
+PLEAT_EXPORT pleat_status pleat_garment_get_mesh(const pleat_garment* garment, float* positions,
+                                                 size_t positions_capacity, uint32_t* triangles,
+                                                 size_t triangles_capacity);
 
 /* Computes the spectral bands and the rest-pose geodesic neighbourhoods.
    Call once, before sharing the garment between threads; afterwards the
    garment is immutable. Not thread-safe with other calls on this garment. */
-PLEAT_EXPORT pleat_status pleat_garment_prepare(pleat_garment* garment,
-                                                const pleat_prepare_options* options);
+PLEAT_EXPORT pleat_status pleat_garment_prepare(pleat_garment* garment, const pleat_prepare_options* options);
 
 /* Band settings of a prepared garment. PLEAT_ERROR_NOT_PREPARED otherwise.
    Thread-safe on a shared garment. */
@@ -304,9 +301,8 @@ PLEAT_EXPORT pleat_status pleat_garment_save(const pleat_garment* garment, const
    Allocates a scratch buffer per call (batch frames to amortise it).
    Thread-safe on a shared garment. */
 PLEAT_EXPORT pleat_status pleat_garment_split_bands(const pleat_garment* garment,
-                                                    pleat_const_frames positions,
-                                                    size_t frame_count, pleat_frames low,
-                                                    pleat_frames mid, pleat_frames high);
+                                                    pleat_const_frames positions, size_t frame_count,
+                                                    pleat_frames low, pleat_frames mid, pleat_frames high);
 
 /* ---- Metrics ------------------------------------------------------------- */
 
@@ -314,8 +310,7 @@ PLEAT_EXPORT pleat_status pleat_garment_split_bands(const pleat_garment* garment
    (paper section IV). Band errors need a prepared garment and are skipped
    (bit clear) otherwise unless explicitly requested, which then fails with
    PLEAT_ERROR_NOT_PREPARED. Thread-safe on a shared garment. */
-PLEAT_EXPORT pleat_status pleat_metrics_compute(const pleat_garment* garment,
-                                                pleat_const_frames predicted,
+PLEAT_EXPORT pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_frames predicted,
                                                 pleat_const_frames truth, size_t frame_count,
                                                 const pleat_metrics_options* options,
                                                 pleat_metrics* out_metrics);
@@ -324,8 +319,7 @@ PLEAT_EXPORT pleat_status pleat_metrics_compute(const pleat_garment* garment,
 
 /* Reads the header of a PC2 or MDD file, or counts an OBJ sequence.
    format: PLEAT_CACHE_*. Thread-safe. */
-PLEAT_EXPORT pleat_status pleat_cache_get_info(const char* path, uint32_t format,
-                                               pleat_cache_info* out_info);
+PLEAT_EXPORT pleat_status pleat_cache_get_info(const char* path, uint32_t format, pleat_cache_info* out_info);
 
 /* Reads every frame into out (frame_count * vertex_count * 3 floats at the
    given stride; capacity in floats). Thread-safe. */
@@ -334,8 +328,7 @@ PLEAT_EXPORT pleat_status pleat_cache_read(const char* path, uint32_t format, pl
 
 /* Writes frames atomically. An OBJ sequence takes its faces from `garment`
    (required for that format, ignored otherwise). Thread-safe. */
-PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format,
-                                            const pleat_garment* garment,
+PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format, const pleat_garment* garment,
                                             pleat_const_frames positions, size_t frame_count,
                                             size_t vertex_count, double frame_rate);
 
@@ -368,8 +361,9 @@ PLEAT_EXPORT pleat_status pleat_body_set_shape(pleat_body* body, const double* v
 /* Rest mesh (vertex_count xyz), triangles (triangle_count triples) and rest
    joint positions (joint_count xyz, global); any output may be NULL.
    Capacities in elements. Thread-safe on a shared body. */
-PLEAT_EXPORT pleat_status pleat_body_get_rest(const pleat_body* body, float* positions, size_t positions_capacity,
-                                              uint32_t* triangles, size_t triangles_capacity, float* joints,
+PLEAT_EXPORT pleat_status pleat_body_get_rest(const pleat_body* body, float* positions,
+                                              size_t positions_capacity, uint32_t* triangles,
+                                              size_t triangles_capacity, float* joints,
                                               size_t joints_capacity);
 
 /* Skinned body vertices for frames [first_frame, first_frame + frame_count)
@@ -439,14 +433,14 @@ typedef struct pleat_api {
   pleat_status (*garment_prepare)(pleat_garment*, const pleat_prepare_options*);
   pleat_status (*garment_get_band_info)(const pleat_garment*, pleat_band_info*);
   pleat_status (*garment_save)(const pleat_garment*, const char*);
-  pleat_status (*garment_split_bands)(const pleat_garment*, pleat_const_frames, size_t,
-                                      pleat_frames, pleat_frames, pleat_frames);
-  pleat_status (*metrics_compute)(const pleat_garment*, pleat_const_frames, pleat_const_frames,
-                                  size_t, const pleat_metrics_options*, pleat_metrics*);
+  pleat_status (*garment_split_bands)(const pleat_garment*, pleat_const_frames, size_t, pleat_frames,
+                                      pleat_frames, pleat_frames);
+  pleat_status (*metrics_compute)(const pleat_garment*, pleat_const_frames, pleat_const_frames, size_t,
+                                  const pleat_metrics_options*, pleat_metrics*);
   pleat_status (*cache_get_info)(const char*, uint32_t, pleat_cache_info*);
   pleat_status (*cache_read)(const char*, uint32_t, pleat_frames, size_t);
-  pleat_status (*cache_write)(const char*, uint32_t, const pleat_garment*, pleat_const_frames,
-                              size_t, size_t, double);
+  pleat_status (*cache_write)(const char*, uint32_t, const pleat_garment*, pleat_const_frames, size_t, size_t,
+                              double);
   pleat_status (*body_load)(const char*, const pleat_body_load_options*, pleat_body**);
   void (*body_destroy)(pleat_body*);
   pleat_status (*body_get_info)(const pleat_body*, pleat_body_info*);

@@ -15,7 +15,8 @@ namespace pleat {
 namespace {
 
 std::string frame_joint(const std::string& source, const Motion& m, int64_t f, int32_t j) {
-  return source + ": frame " + std::to_string(f) + ", joint " + std::to_string(j) + " '" + m.skeleton.names[j] + "'";
+  return source + ": frame " + std::to_string(f) + ", joint " + std::to_string(j) + " '" +
+         m.skeleton.names[j] + "'";
 }
 
 Motion empty_like(const Motion& m, int64_t frames) {
@@ -29,7 +30,8 @@ Motion empty_like(const Motion& m, int64_t frames) {
 }
 
 // Global rest rotations and positions.
-void rest_pose(const Skeleton& s, std::vector<Eigen::Matrix3d>* rotation, std::vector<Eigen::Vector3d>* position) {
+void rest_pose(const Skeleton& s, std::vector<Eigen::Matrix3d>* rotation,
+               std::vector<Eigen::Vector3d>* position) {
   const Transforms g = rest_transforms(s);
   rotation->resize(g.size());
   position->resize(g.size());
@@ -68,20 +70,24 @@ void validate_motion(const Motion& m, const std::string& source) {
   validate_skeleton(m.skeleton, source);
   const int32_t n = m.skeleton.joint_count();
   if (!std::isfinite(m.frame_rate) || !(m.frame_rate > 0.0))
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": frame rate " + std::to_string(m.frame_rate) + " is not > 0");
-  if (m.frame_count < 0 || m.rotations.size() != static_cast<size_t>(m.frame_count) * static_cast<size_t>(n) ||
+    fail(PLEAT_ERROR_INVALID_ARGUMENT,
+         source + ": frame rate " + std::to_string(m.frame_rate) + " is not > 0");
+  if (m.frame_count < 0 ||
+      m.rotations.size() != static_cast<size_t>(m.frame_count) * static_cast<size_t>(n) ||
       m.root_translation.rows() != m.frame_count)
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": motion arrays disagree with " + std::to_string(m.frame_count) +
-                                           " frames of " + std::to_string(n) + " joints (" +
-                                           std::to_string(m.rotations.size()) + " rotations, " +
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": motion arrays disagree with " +
+                                           std::to_string(m.frame_count) + " frames of " + std::to_string(n) +
+                                           " joints (" + std::to_string(m.rotations.size()) + " rotations, " +
                                            std::to_string(m.root_translation.rows()) + " root positions)");
   for (int64_t f = 0; f < m.frame_count; ++f) {
     const Eigen::Quaterniond* q = m.frame(f);
     for (int32_t j = 0; j < n; ++j)
       if (!q[j].coeffs().allFinite() || std::abs(q[j].norm() - 1.0) > 1e-6)
-        fail(PLEAT_ERROR_INVALID_ARGUMENT, frame_joint(source, m, f, j) + ": rotation is not a finite unit quaternion");
+        fail(PLEAT_ERROR_INVALID_ARGUMENT,
+             frame_joint(source, m, f, j) + ": rotation is not a finite unit quaternion");
     if (!m.root_translation.row(f).allFinite())
-      fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": frame " + std::to_string(f) + ": root translation is not finite");
+      fail(PLEAT_ERROR_INVALID_ARGUMENT,
+           source + ": frame " + std::to_string(f) + ": root translation is not finite");
   }
 }
 
@@ -98,8 +104,8 @@ Points3d joint_positions(const Motion& m, int64_t frame) {
 
 Motion resample_motion(const Motion& m, double frame_rate) {
   if (!std::isfinite(frame_rate) || !(frame_rate > 0.0))
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, "resample_motion: target frame rate " + std::to_string(frame_rate) +
-                                           " is not finite and > 0");
+    fail(PLEAT_ERROR_INVALID_ARGUMENT,
+         "resample_motion: target frame rate " + std::to_string(frame_rate) + " is not finite and > 0");
   validate_motion(m, "resample_motion");
   if (m.frame_count == 0) {
     Motion out = empty_like(m, 0);
@@ -123,9 +129,10 @@ Motion resample_motion(const Motion& m, double frame_rate) {
     const Eigen::Quaterniond* b = m.frame(f1);
     Eigen::Quaterniond* q = out.rotations.data() + i * n;
     for (int32_t j = 0; j < n; ++j) q[j] = t == 0.0 ? a[j] : a[j].slerp(t, b[j]).normalized();
-    out.root_translation.row(i) = t == 0.0 ? Eigen::RowVector3d(m.root_translation.row(f0))
-                                           : Eigen::RowVector3d((1.0 - t) * m.root_translation.row(f0) +
-                                                                t * m.root_translation.row(f1));
+    out.root_translation.row(i) =
+        t == 0.0
+            ? Eigen::RowVector3d(m.root_translation.row(f0))
+            : Eigen::RowVector3d((1.0 - t) * m.root_translation.row(f0) + t * m.root_translation.row(f1));
   }
   return out;
 }
@@ -171,7 +178,8 @@ JointMap parse_joint_map(const std::string& text, const std::string& source) {
     size_t start = 0;
     for (;;) {
       const size_t bar = tokens[0].find('|', start);
-      const std::string name = tokens[0].substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+      const std::string name =
+          tokens[0].substr(start, bar == std::string::npos ? std::string::npos : bar - start);
       if (name.empty()) fail(PLEAT_ERROR_FORMAT, where + "empty source name in '" + tokens[0] + "'");
       entry.sources.push_back(name);
       if (bar == std::string::npos) break;
@@ -241,7 +249,8 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
       const int32_t t = target.find(e.target);
       if (t < 0) {
         if (options.missing_target == MissingJoint::kError)
-          fail(PLEAT_ERROR_INVALID_ARGUMENT, where + "target joint '" + e.target + "' is not in the target skeleton");
+          fail(PLEAT_ERROR_INVALID_ARGUMENT,
+               where + "target joint '" + e.target + "' is not in the target skeleton");
         rep.skipped_lines.push_back(where + "no target joint '" + e.target + "'");
         continue;
       }
@@ -253,7 +262,8 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
         std::string names;
         for (const std::string& name : e.sources) names += (names.empty() ? "'" : " or '") + name + "'";
         if (options.missing_source == MissingJoint::kError)
-          fail(PLEAT_ERROR_INVALID_ARGUMENT, where + "source joint " + names + " is not in the source skeleton");
+          fail(PLEAT_ERROR_INVALID_ARGUMENT,
+               where + "source joint " + names + " is not in the source skeleton");
         rep.skipped_lines.push_back(where + "no source joint " + names);
         continue;
       }
@@ -269,8 +279,8 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
     }
   if (pair[0] < 0)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "retarget: the target root '" + target.names[0] +
-                                           "' has no source joint (map it, e.g. '<source root> " + target.names[0] +
-                                           "')");
+                                           "' has no source joint (map it, e.g. '<source root> " +
+                                           target.names[0] + "')");
 
   // Rest poses.
   std::vector<Eigen::Matrix3d> rs, rt;
@@ -339,8 +349,8 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
     forward_kinematics(ss, source.frame(f), source.root_translation.row(f).transpose(), &gs);
     Eigen::Quaterniond* q = out.rotations.data() + f * nt;
     for (int32_t t = 0; t < nt; ++t) {
-      const Eigen::Matrix3d parent_rest =
-          (t == 0 ? Eigen::Matrix3d::Identity() : gt[target.parents[t]]) * target.rest_rotation[t].toRotationMatrix();
+      const Eigen::Matrix3d parent_rest = (t == 0 ? Eigen::Matrix3d::Identity() : gt[target.parents[t]]) *
+                                          target.rest_rotation[t].toRotationMatrix();
       if (pair[t] < 0) {
         gt[t] = parent_rest;
         q[t] = Eigen::Quaterniond::Identity();
@@ -357,8 +367,8 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
 // ---- Mirroring ------------------------------------------------------------------------
 
 std::string mirror_joint_name(const std::string& name) {
-  static const std::pair<const char*, const char*> kWords[] = {{"Left", "Right"}, {"left", "right"},
-                                                               {"LEFT", "RIGHT"}};
+  static const std::pair<const char*, const char*> kWords[] = {
+      {"Left", "Right"}, {"left", "right"}, {"LEFT", "RIGHT"}};
   for (const auto& [a, b] : kWords) {
     for (const auto& [from, to] : {std::pair<std::string, std::string>{a, b}, {b, a}}) {
       const size_t at = name.find(from);

@@ -53,12 +53,12 @@ void rename_joints(Skeleton* skeleton, const JointMap& map);
 enum class MissingJoint { kError, kSkip };
 
 struct RetargetOptions {
-  const JointMap* map = nullptr;   // nullptr: pair joints by equal names only
-  bool match_equal_names = true;   // also pair target joints that the map does not name with
-                                   // equal-named source joints the map does not use
+  const JointMap* map = nullptr;  // nullptr: pair joints by equal names only
+  bool match_equal_names = true;  // also pair target joints that the map does not name with
+                                  // equal-named source joints the map does not use
   MissingJoint missing_source = MissingJoint::kError;  // a map line none of whose sources exist
   MissingJoint missing_target = MissingJoint::kError;  // a map line whose target does not exist
-  double root_scale = 0.0;         // 0: ratio of leg lengths (target / source), see hip_height
+  double root_scale = 0.0;  // 0: ratio of leg lengths (target / source), see hip_height
 };
 
 struct RetargetReport {
@@ -87,9 +87,9 @@ double hip_height(const Skeleton& skeleton);
 // ancestor (identity at the root). Unpaired target joints keep their rest
 // local rotation. The root follows its source joint's global position times
 // the root scale: the ratio of leg lengths (as hip_height, from the paired
-// root down to the lowest paired joint and its source joint). Throws PLEAT_ERROR_INVALID_ARGUMENT naming the map
-// line for unknown names (see RetargetOptions), for an invalid motion (e.g. a
-// NaN rotation, naming joint and frame) or skeleton, or an unpaired target root.
+// root down to the lowest paired joint and its source joint). Throws PLEAT_ERROR_INVALID_ARGUMENT naming the
+// map line for unknown names (see RetargetOptions), for an invalid motion (e.g. a NaN rotation, naming joint
+// and frame) or skeleton, or an unpaired target root.
 Motion retarget_motion(const Motion& source, const Skeleton& target, const RetargetOptions& options = {},
                        RetargetReport* report = nullptr);
 

@@ -16,7 +16,8 @@ int32_t Skeleton::find(const std::string& name) const {
 void validate_skeleton(const Skeleton& s, const std::string& source) {
   const auto n = static_cast<size_t>(s.joint_count());
   if (n == 0) fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": skeleton has no joints");
-  if (s.parents.size() != n || static_cast<size_t>(s.rest_translation.rows()) != n || s.rest_rotation.size() != n)
+  if (s.parents.size() != n || static_cast<size_t>(s.rest_translation.rows()) != n ||
+      s.rest_rotation.size() != n)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, source + ": skeleton arrays disagree in size (" + std::to_string(n) +
                                            " names, " + std::to_string(s.parents.size()) + " parents)");
   std::unordered_set<std::string> seen;
@@ -24,9 +25,10 @@ void validate_skeleton(const Skeleton& s, const std::string& source) {
     const std::string joint = source + ": joint " + std::to_string(j) + " '" + s.names[j] + "'";
     if (!seen.insert(s.names[j]).second) fail(PLEAT_ERROR_INVALID_ARGUMENT, joint + " is named twice");
     if (j == 0 ? s.parents[j] != -1 : (s.parents[j] < 0 || s.parents[j] >= static_cast<int32_t>(j)))
-      fail(PLEAT_ERROR_INVALID_ARGUMENT, joint + " has parent " + std::to_string(s.parents[j]) +
-                                             (j == 0 ? "; the first joint must be the root (-1)"
-                                                     : "; parents must come first (a cycle or a second root)"));
+      fail(PLEAT_ERROR_INVALID_ARGUMENT,
+           joint + " has parent " + std::to_string(s.parents[j]) +
+               (j == 0 ? "; the first joint must be the root (-1)"
+                       : "; parents must come first (a cycle or a second root)"));
     if (!s.rest_translation.row(static_cast<Eigen::Index>(j)).allFinite() ||
         !s.rest_rotation[j].coeffs().allFinite() || std::abs(s.rest_rotation[j].norm() - 1.0) > 1e-6)
       fail(PLEAT_ERROR_INVALID_ARGUMENT, joint + " has a non-finite offset or a non-unit rest rotation");

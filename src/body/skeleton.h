@@ -21,9 +21,9 @@ using Transforms = std::vector<Eigen::Affine3d, Eigen::aligned_allocator<Eigen::
 
 struct Skeleton {
   std::vector<std::string> names;
-  std::vector<int32_t> parents;         // -1 for the root; parents[j] < j
-  Points3d rest_translation;            // local offset from the parent (root: global position)
-  Quaternions rest_rotation;            // local rest orientation (identity for most formats)
+  std::vector<int32_t> parents;  // -1 for the root; parents[j] < j
+  Points3d rest_translation;     // local offset from the parent (root: global position)
+  Quaternions rest_rotation;     // local rest orientation (identity for most formats)
   int32_t joint_count() const { return static_cast<int32_t>(names.size()); }
   int32_t find(const std::string& name) const;  // index or -1
 };
@@ -34,11 +34,9 @@ struct Motion {
   Skeleton skeleton;
   double frame_rate = 30.0;
   int64_t frame_count = 0;
-  Quaternions rotations;       // frame_count * joint_count, frame-major
-  Points3d root_translation;   // frame_count x 3
-  const Eigen::Quaterniond* frame(int64_t f) const {
-    return rotations.data() + f * skeleton.joint_count();
-  }
+  Quaternions rotations;      // frame_count * joint_count, frame-major
+  Points3d root_translation;  // frame_count x 3
+  const Eigen::Quaterniond* frame(int64_t f) const { return rotations.data() + f * skeleton.joint_count(); }
 };
 
 // Throws PLEAT_ERROR_INVALID_ARGUMENT naming the joint: empty skeleton,

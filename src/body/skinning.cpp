@@ -17,24 +17,24 @@ std::string vertex_name(const std::string& source, int32_t v) {
 void check_matrices(const SkinMatrices& matrices, int32_t joint_count) {
   if (static_cast<int64_t>(matrices.size()) < joint_count)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "skinning: " + std::to_string(matrices.size()) +
-                                           " skinning matrices for weights over " + std::to_string(joint_count) +
-                                           " joints");
+                                           " skinning matrices for weights over " +
+                                           std::to_string(joint_count) + " joints");
 }
 
 // Blends the matrices of one vertex's influences and applies them.
 template <typename Scalar>
 inline void skin_vertex(const Scalar* in, const SkinMatrix& m, Scalar* out) {
   const double x = static_cast<double>(in[0]), y = static_cast<double>(in[1]), z = static_cast<double>(in[2]);
-  for (int r = 0; r < 3; ++r)
-    out[r] = static_cast<Scalar>(m(r, 0) * x + m(r, 1) * y + m(r, 2) * z + m(r, 3));
+  for (int r = 0; r < 3; ++r) out[r] = static_cast<Scalar>(m(r, 0) * x + m(r, 1) * y + m(r, 2) * z + m(r, 3));
 }
 
 template <typename Scalar>
-void lbs_sparse_raw(const Scalar* rest, int32_t vertex_count, const SkinWeights& w, const SkinMatrices& matrices,
-                    Scalar* out) {
+void lbs_sparse_raw(const Scalar* rest, int32_t vertex_count, const SkinWeights& w,
+                    const SkinMatrices& matrices, Scalar* out) {
   for (int32_t v = 0; v < vertex_count; ++v) {
     SkinMatrix blend = SkinMatrix::Zero();
-    for (int32_t k = w.offsets[v]; k < w.offsets[v + 1]; ++k) blend.noalias() += w.weights[k] * matrices[w.joints[k]];
+    for (int32_t k = w.offsets[v]; k < w.offsets[v + 1]; ++k)
+      blend.noalias() += w.weights[k] * matrices[w.joints[k]];
     skin_vertex(rest + 3 * static_cast<size_t>(v), blend, out + 3 * static_cast<size_t>(v));
   }
 }
@@ -158,7 +158,8 @@ Eigen::MatrixXd dense_skin_weights(const SkinWeights& w) {
 }
 
 SkinWeights truncate_skin_weights(const SkinWeights& w, int32_t k) {
-  if (k < 1) fail(PLEAT_ERROR_INVALID_ARGUMENT, "truncate_skin_weights: k must be >= 1, got " + std::to_string(k));
+  if (k < 1)
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "truncate_skin_weights: k must be >= 1, got " + std::to_string(k));
   SkinWeights out;
   out.joint_count = w.joint_count;
   out.offsets.reserve(w.offsets.size());
@@ -191,7 +192,8 @@ SkinWeights truncate_skin_weights(const SkinWeights& w, int32_t k) {
 void skinning_matrices(const Transforms& pose_global, const Transforms& rest_global, SkinMatrices* out) {
   if (pose_global.size() != rest_global.size())
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "skinning_matrices: " + std::to_string(pose_global.size()) +
-                                           " pose transforms, " + std::to_string(rest_global.size()) + " rest");
+                                           " pose transforms, " + std::to_string(rest_global.size()) +
+                                           " rest");
   out->resize(pose_global.size());
   for (size_t j = 0; j < pose_global.size(); ++j) {
     // Rigid rest transforms: the inverse is [R^T | -R^T t].
@@ -206,8 +208,9 @@ template <typename Scalar>
 void linear_blend_skinning(const Points<Scalar>& rest, const SkinWeights& w, const SkinMatrices& matrices,
                            Points<Scalar>* posed) {
   if (w.vertex_count() != rest.rows())
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, "linear_blend_skinning: weights for " + std::to_string(w.vertex_count()) +
-                                           " vertices, mesh has " + std::to_string(rest.rows()));
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "linear_blend_skinning: weights for " +
+                                           std::to_string(w.vertex_count()) + " vertices, mesh has " +
+                                           std::to_string(rest.rows()));
   check_matrices(matrices, w.joint_count);
   if (rest.rows() > 0 && posed->data() == rest.data())
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "linear_blend_skinning: output aliases input");
@@ -237,8 +240,8 @@ void linear_blend_skinning_dense(const Points<Scalar>& rest, const Eigen::Ref<co
 }
 
 template <typename Scalar>
-void skin_frames(const Points<Scalar>& rest, const SkinWeights& w, const Motion& motion, int64_t first, int64_t count,
-                 SkinningWorkspace* ws, Scalar* out, size_t out_size) {
+void skin_frames(const Points<Scalar>& rest, const SkinWeights& w, const Motion& motion, int64_t first,
+                 int64_t count, SkinningWorkspace* ws, Scalar* out, size_t out_size) {
   const Skeleton& s = motion.skeleton;
   if (w.joint_count != s.joint_count())
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "skin_frames: weights over " + std::to_string(w.joint_count) +
@@ -252,23 +255,26 @@ void skin_frames(const Points<Scalar>& rest, const SkinWeights& w, const Motion&
                                            std::to_string(motion.frame_count));
   const size_t per_frame = static_cast<size_t>(rest.rows()) * 3;
   if (out_size < per_frame * static_cast<size_t>(count))
-    fail(PLEAT_ERROR_BUFFER_TOO_SMALL, "skin_frames: buffer of " + std::to_string(out_size) + " values, need " +
+    fail(PLEAT_ERROR_BUFFER_TOO_SMALL, "skin_frames: buffer of " + std::to_string(out_size) +
+                                           " values, need " +
                                            std::to_string(per_frame * static_cast<size_t>(count)));
   ws->rest_global = rest_transforms(s);  // once per call, not per frame
   for (int64_t f = first; f < first + count; ++f) {
     forward_kinematics(s, motion.frame(f), motion.root_translation.row(f).transpose(), &ws->pose_global);
     skinning_matrices(ws->pose_global, ws->rest_global, &ws->matrices);
-    lbs_sparse_raw(rest.data(), w.vertex_count(), w, ws->matrices, out + per_frame * static_cast<size_t>(f - first));
+    lbs_sparse_raw(rest.data(), w.vertex_count(), w, ws->matrices,
+                   out + per_frame * static_cast<size_t>(f - first));
   }
 }
 
-#define PLEAT_SKINNING_INSTANTIATE(Scalar)                                                                        \
-  template void linear_blend_skinning<Scalar>(const Points<Scalar>&, const SkinWeights&, const SkinMatrices&,   \
-                                              Points<Scalar>*);                                                 \
-  template void linear_blend_skinning_dense<Scalar>(const Points<Scalar>&, const Eigen::Ref<const Eigen::MatrixXd>&, \
-                                                    const SkinMatrices&, Points<Scalar>*);                       \
-  template void skin_frames<Scalar>(const Points<Scalar>&, const SkinWeights&, const Motion&, int64_t, int64_t,   \
-                                    SkinningWorkspace*, Scalar*, size_t);
+#define PLEAT_SKINNING_INSTANTIATE(Scalar)                                                             \
+  template void linear_blend_skinning<Scalar>(const Points<Scalar>&, const SkinWeights&,               \
+                                              const SkinMatrices&, Points<Scalar>*);                   \
+  template void linear_blend_skinning_dense<Scalar>(const Points<Scalar>&,                             \
+                                                    const Eigen::Ref<const Eigen::MatrixXd>&,          \
+                                                    const SkinMatrices&, Points<Scalar>*);             \
+  template void skin_frames<Scalar>(const Points<Scalar>&, const SkinWeights&, const Motion&, int64_t, \
+                                    int64_t, SkinningWorkspace*, Scalar*, size_t);
 PLEAT_SKINNING_INSTANTIATE(float)
 PLEAT_SKINNING_INSTANTIATE(double)
 #undef PLEAT_SKINNING_INSTANTIATE

@@ -66,8 +66,8 @@ void skinning_matrices(const Transforms& pose_global, const Transforms& rest_glo
 // LBS of `rest` (vertex_count x 3) into `posed` (same size, may not alias
 // `rest`). Scalar is float or double; blending is done in double.
 template <typename Scalar>
-void linear_blend_skinning(const Points<Scalar>& rest, const SkinWeights& weights, const SkinMatrices& matrices,
-                           Points<Scalar>* posed);
+void linear_blend_skinning(const Points<Scalar>& rest, const SkinWeights& weights,
+                           const SkinMatrices& matrices, Points<Scalar>* posed);
 
 // Same with dense weights (vertex_count x joint_count); zero weights skipped.
 template <typename Scalar>

@@ -37,10 +37,10 @@ pleat_body* load_body(const std::string& path, const pleat_body_load_options& o)
       return new pleat_body{smpl_body(*model, Eigen::VectorXd::Zero(model->shape_count())),
                             [model](const Eigen::VectorXd& beta) { return smpl_body(*model, beta); }};
     }
-    case PLEAT_BODY_RIGGED_MESH:
-      return new pleat_body{import_rig(path).body, {}};
+    case PLEAT_BODY_RIGGED_MESH: return new pleat_body{import_rig(path).body, {}};
     default:
-      fail(PLEAT_ERROR_INVALID_ARGUMENT, "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
+      fail(PLEAT_ERROR_INVALID_ARGUMENT,
+           "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
   }
 }
 
@@ -55,7 +55,8 @@ void check_capacity(const T* out, size_t capacity, size_t needed, const char* na
 
 extern "C" {
 
-pleat_status pleat_body_load(const char* path, const pleat_body_load_options* options, pleat_body** out_body) {
+pleat_status pleat_body_load(const char* path, const pleat_body_load_options* options,
+                             pleat_body** out_body) {
   return guarded(__func__, [&] {
     require_not_null(path, "path");
     require_not_null(out_body, "out_body");
@@ -63,7 +64,9 @@ pleat_status pleat_body_load(const char* path, const pleat_body_load_options* op
   });
 }
 
-void pleat_body_destroy(pleat_body* body) { delete body; }
+void pleat_body_destroy(pleat_body* body) {
+  delete body;
+}
 
 pleat_status pleat_body_get_info(const pleat_body* body, pleat_body_info* out_info) {
   return guarded(__func__, [&] {

@@ -51,9 +51,9 @@ template <typename Options>
 Options read_options(const Options* options, const char* name) {
   Options result{};
   if (!options) return result;
-  require(options->struct_size >= sizeof(uint32_t),
-          std::string("'") + name + ".struct_size' is " + std::to_string(options->struct_size) +
-              "; set it to sizeof(" + name + ")");
+  require(options->struct_size >= sizeof(uint32_t), std::string("'") + name + ".struct_size' is " +
+                                                        std::to_string(options->struct_size) +
+                                                        "; set it to sizeof(" + name + ")");
   std::memcpy(&result, options, std::min<size_t>(options->struct_size, sizeof(Options)));
   return result;
 }
@@ -62,9 +62,9 @@ Options read_options(const Options* options, const char* name) {
 template <typename Result>
 void write_result(const Result& result, Result* out, const char* name) {
   require_not_null(out, name);
-  require(out->struct_size >= sizeof(uint32_t),
-          std::string("'") + name + "->struct_size' is " + std::to_string(out->struct_size) +
-              "; set it to sizeof the struct");
+  require(out->struct_size >= sizeof(uint32_t), std::string("'") + name + "->struct_size' is " +
+                                                    std::to_string(out->struct_size) +
+                                                    "; set it to sizeof the struct");
   const uint32_t caller_size = out->struct_size;
   std::memcpy(out, &result, std::min<size_t>(caller_size, sizeof(Result)));
   out->struct_size = caller_size;

@@ -37,7 +37,8 @@ void hand_out(Garment&& garment, pleat_garment** out) {
 
 const PreparedData& prepared(const pleat_garment* g) {
   if (!g->garment.prepared)
-    fail(PLEAT_ERROR_NOT_PREPARED, "garment '" + g->garment.source + "' is not prepared; call pleat_garment_prepare");
+    fail(PLEAT_ERROR_NOT_PREPARED,
+         "garment '" + g->garment.source + "' is not prepared; call pleat_garment_prepare");
   return *g->garment.prepared;
 }
 
@@ -67,19 +68,22 @@ pleat_status pleat_garment_create(const float* positions, size_t vertex_count, c
     require(vertex_count < (size_t{1} << 30) && triangle_count < (size_t{1} << 30),
             "vertex_count or triangle_count exceeds 2^30");
     GarmentBuildOptions b = build_options(options);
-    Points3d v = Eigen::Map<const Points3f>(positions, static_cast<Eigen::Index>(vertex_count), 3).cast<double>();
+    Points3d v =
+        Eigen::Map<const Points3f>(positions, static_cast<Eigen::Index>(vertex_count), 3).cast<double>();
     Triangles t(static_cast<Eigen::Index>(triangle_count), 3);
     for (size_t i = 0; i < triangle_count * 3; ++i) {
-      require(triangles[i] < vertex_count, "triangles[" + std::to_string(i) + "] = " +
-                                               std::to_string(triangles[i]) + " is not below vertex_count " +
-                                               std::to_string(vertex_count));
+      require(triangles[i] < vertex_count, "triangles[" + std::to_string(i) +
+                                               "] = " + std::to_string(triangles[i]) +
+                                               " is not below vertex_count " + std::to_string(vertex_count));
       t.data()[i] = static_cast<int32_t>(triangles[i]);
     }
     hand_out(build_garment(v, t, b, "caller arrays"), out_garment);
   });
 }
 
-void pleat_garment_destroy(pleat_garment* garment) { delete garment; }
+void pleat_garment_destroy(pleat_garment* garment) {
+  delete garment;
+}
 
 pleat_status pleat_garment_get_report(const pleat_garment* garment, pleat_mesh_report* out_report) {
   return guarded(__func__, [&] {
@@ -111,7 +115,8 @@ pleat_status pleat_garment_prepare(pleat_garment* garment, const pleat_prepare_o
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
     pleat_prepare_options o = read_options(options, "pleat_prepare_options");
-    require(o.solver <= PLEAT_SOLVER_HYBRID, "'pleat_prepare_options.solver' has unknown value " + std::to_string(o.solver));
+    require(o.solver <= PLEAT_SOLVER_HYBRID,
+            "'pleat_prepare_options.solver' has unknown value " + std::to_string(o.solver));
     require(o.projection <= PLEAT_PROJECTION_SYMMETRIC,
             "'pleat_prepare_options.projection' has unknown value " + std::to_string(o.projection));
     require(std::isfinite(o.geodesic_radius) && o.geodesic_radius >= 0.0,

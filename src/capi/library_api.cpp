@@ -5,14 +5,20 @@ namespace pleat::capi {
 namespace {
 thread_local std::string last_error;
 }
-void set_last_error(const std::string& message) { last_error = message; }
+void set_last_error(const std::string& message) {
+  last_error = message;
+}
 }  // namespace pleat::capi
 
 extern "C" {
 
-uint32_t pleat_version(void) { return PLEAT_VERSION_NUMBER; }
+uint32_t pleat_version(void) {
+  return PLEAT_VERSION_NUMBER;
+}
 
-const char* pleat_last_error(void) { return pleat::capi::last_error.c_str(); }
+const char* pleat_last_error(void) {
+  return pleat::capi::last_error.c_str();
+}
 
 const char* pleat_status_name(pleat_status status) {
   switch (status) {
@@ -33,41 +39,18 @@ const char* pleat_status_name(pleat_status status) {
 
 const pleat_api* pleat_get_api(uint32_t version) {
   static const pleat_api table = {
-      sizeof(pleat_api),
-      PLEAT_API_VERSION,
-      pleat_version,
-      pleat_last_error,
-      pleat_status_name,
-      pleat_garment_load,
-      pleat_garment_create,
-      pleat_garment_destroy,
-      pleat_garment_get_report,
-      pleat_garment_get_mesh,
-      pleat_garment_prepare,
-      pleat_garment_get_band_info,
-      pleat_garment_save,
-      pleat_garment_split_bands,
-      pleat_metrics_compute,
-      pleat_cache_get_info,
-      pleat_cache_read,
-      pleat_cache_write,
-      pleat_body_load,
-      pleat_body_destroy,
-      pleat_body_get_info,
-      pleat_body_joint_name,
-      pleat_body_shape_name,
-      pleat_body_get_shape,
-      pleat_body_set_shape,
-      pleat_body_get_rest,
-      pleat_body_pose_motion,
-      pleat_motion_load,
-      pleat_motion_destroy,
-      pleat_motion_get_info,
-      pleat_motion_joint_name,
-      pleat_motion_resample,
-      pleat_motion_retarget,
-      pleat_motion_get_frames,
-      pleat_mesh_write_obj,
+      sizeof(pleat_api),       PLEAT_API_VERSION,         pleat_version,
+      pleat_last_error,        pleat_status_name,         pleat_garment_load,
+      pleat_garment_create,    pleat_garment_destroy,     pleat_garment_get_report,
+      pleat_garment_get_mesh,  pleat_garment_prepare,     pleat_garment_get_band_info,
+      pleat_garment_save,      pleat_garment_split_bands, pleat_metrics_compute,
+      pleat_cache_get_info,    pleat_cache_read,          pleat_cache_write,
+      pleat_body_load,         pleat_body_destroy,        pleat_body_get_info,
+      pleat_body_joint_name,   pleat_body_shape_name,     pleat_body_get_shape,
+      pleat_body_set_shape,    pleat_body_get_rest,       pleat_body_pose_motion,
+      pleat_motion_load,       pleat_motion_destroy,      pleat_motion_get_info,
+      pleat_motion_joint_name, pleat_motion_resample,     pleat_motion_retarget,
+      pleat_motion_get_frames, pleat_mesh_write_obj,
   };
   // Every version up to the current one is served by the same, grown table:
   // older callers only read its prefix.

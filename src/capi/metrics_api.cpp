@@ -20,7 +20,8 @@ pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_fra
     require_not_null(predicted.data, "predicted.data");
     require_not_null(truth.data, "truth.data");
     pleat_metrics_options o = read_options(options, "pleat_metrics_options");
-    require(std::isfinite(o.collision_prefilter), "'pleat_metrics_options.collision_prefilter' is not finite");
+    require(std::isfinite(o.collision_prefilter),
+            "'pleat_metrics_options.collision_prefilter' is not finite");
     MetricsOptions m;
     m.flags = o.flags;
     if (o.collision_prefilter != 0.0) m.collision_prefilter = o.collision_prefilter;
@@ -33,9 +34,9 @@ pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_fra
         split_bands(g.prepared->bands, in, frames, stride, low, stride, mid, stride, high, stride);
       };
     }
-    MetricsResult r = compute_metrics(g.rest.triangles, g.rest.vertex_count(), predicted.data,
-                                      predicted.frame_stride, truth.data, truth.frame_stride, frame_count, m,
-                                      g.prepared ? &split : nullptr);
+    MetricsResult r =
+        compute_metrics(g.rest.triangles, g.rest.vertex_count(), predicted.data, predicted.frame_stride,
+                        truth.data, truth.frame_stride, frame_count, m, g.prepared ? &split : nullptr);
     pleat_metrics out{};
     out.struct_size = sizeof out;
     out.computed = r.computed;

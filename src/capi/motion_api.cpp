@@ -32,8 +32,9 @@ pleat_motion* load_motion(const std::string& path, const pleat_motion_load_optio
   if (o.unit_scale > 0.0) r.scale = o.unit_scale;
   ImportedRig rig = import_rig(path, r);
   if (o.clip >= rig.clips.size())
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": clip " + std::to_string(o.clip) + " requested, the file has " +
-                                           std::to_string(rig.clips.size()) + " animation clip(s)");
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": clip " + std::to_string(o.clip) +
+                                           " requested, the file has " + std::to_string(rig.clips.size()) +
+                                           " animation clip(s)");
   return new pleat_motion{std::move(rig.clips[o.clip].motion), rig.unit_scale};
 }
 
@@ -50,7 +51,9 @@ pleat_status pleat_motion_load(const char* path, const pleat_motion_load_options
   });
 }
 
-void pleat_motion_destroy(pleat_motion* motion) { delete motion; }
+void pleat_motion_destroy(pleat_motion* motion) {
+  delete motion;
+}
 
 pleat_status pleat_motion_get_info(const pleat_motion* motion, pleat_motion_info* out_info) {
   return guarded(__func__, [&] {
@@ -78,8 +81,8 @@ pleat_status pleat_motion_resample(const pleat_motion* motion, double frame_rate
   });
 }
 
-pleat_status pleat_motion_retarget(const pleat_motion* motion, const pleat_body* body, const char* joint_map_path,
-                                   pleat_motion** out_motion) {
+pleat_status pleat_motion_retarget(const pleat_motion* motion, const pleat_body* body,
+                                   const char* joint_map_path, pleat_motion** out_motion) {
   return guarded(__func__, [&] {
     require_not_null(motion, "motion");
     require_not_null(body, "body");
@@ -90,7 +93,8 @@ pleat_status pleat_motion_retarget(const pleat_motion* motion, const pleat_body*
       map = read_joint_map(joint_map_path);
       options.map = &map;
     }
-    *out_motion = new pleat_motion{retarget_motion(motion->motion, body->body.skeleton, options), motion->unit_scale};
+    *out_motion =
+        new pleat_motion{retarget_motion(motion->motion, body->body.skeleton, options), motion->unit_scale};
   });
 }
 
@@ -100,7 +104,8 @@ pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_fr
   return guarded(__func__, [&] {
     require_not_null(motion, "motion");
     const Motion& m = motion->motion;
-    const auto frames = static_cast<size_t>(m.frame_count), joints = static_cast<size_t>(m.skeleton.joint_count());
+    const auto frames = static_cast<size_t>(m.frame_count),
+               joints = static_cast<size_t>(m.skeleton.joint_count());
     require(first_frame <= frames && frame_count <= frames - first_frame,
             "frames [" + std::to_string(first_frame) + ", " + std::to_string(first_frame + frame_count) +
                 ") are outside the motion's " + std::to_string(frames));
@@ -114,7 +119,8 @@ pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_fr
       const Eigen::Quaterniond* q = m.frame(static_cast<int64_t>(first_frame + f));
       if (rotations)
         for (size_t j = 0; j < joints; ++j)
-          Eigen::Map<Eigen::Vector4f>(rotations + (f * joints + j) * 4) = q[j].coeffs().cast<float>();  // x y z w
+          Eigen::Map<Eigen::Vector4f>(rotations + (f * joints + j) * 4) =
+              q[j].coeffs().cast<float>();  // x y z w
       if (root_positions)
         Eigen::Map<Eigen::RowVector3f>(root_positions + f * 3) =
             m.root_translation.row(static_cast<Eigen::Index>(first_frame + f)).cast<float>();

@@ -11,8 +11,7 @@ namespace pleat {
 
 class Error : public std::runtime_error {
  public:
-  Error(pleat_status status, const std::string& message)
-      : std::runtime_error(message), status_(status) {}
+  Error(pleat_status status, const std::string& message) : std::runtime_error(message), status_(status) {}
   pleat_status status() const { return status_; }
 
  private:

@@ -19,8 +19,8 @@ void check_input(const Points3d& vertices, const Triangles& triangles, const std
     for (int c = 0; c < 3; ++c) {
       double x = vertices(v, c);
       if (!std::isfinite(x))
-        fail(PLEAT_ERROR_INVALID_MESH, source + ": vertex " + std::to_string(v) + " has a non-finite " +
-                                           axis[c] + " coordinate");
+        fail(PLEAT_ERROR_INVALID_MESH,
+             source + ": vertex " + std::to_string(v) + " has a non-finite " + axis[c] + " coordinate");
       if (std::abs(x) > kMaxCoordinate)
         fail(PLEAT_ERROR_INVALID_MESH, source + ": vertex " + std::to_string(v) + " " + axis[c] +
                                            " coordinate " + std::to_string(x) +
@@ -62,7 +62,7 @@ Garment build_garment(const Points3d& input_vertices, const Triangles& input_tri
   g.source = source;
   const Eigen::RowVector3d lo = scaled.colwise().minCoeff(), hi = scaled.colwise().maxCoeff();
   const double diagonal = (hi - lo).norm();
-  const double tolerance = options.weld_tolerance > 0.0   ? options.weld_tolerance
+  const double tolerance = options.weld_tolerance > 0.0    ? options.weld_tolerance
                            : options.weld_tolerance == 0.0 ? kDefaultWeldTolerance * diagonal
                                                            : -1.0;
   WeldResult weld = weld_vertices(scaled, tolerance);
@@ -76,8 +76,7 @@ Garment build_garment(const Points3d& input_vertices, const Triangles& input_tri
   for (Eigen::Index f = 0; f < input_triangles.rows(); ++f) {
     int32_t a = g.source_vertex[input_triangles(f, 0)], b = g.source_vertex[input_triangles(f, 1)],
             c = g.source_vertex[input_triangles(f, 2)];
-    Eigen::RowVector3d pa = g.rest.vertices.row(a), pb = g.rest.vertices.row(b),
-                       pc = g.rest.vertices.row(c);
+    Eigen::RowVector3d pa = g.rest.vertices.row(a), pb = g.rest.vertices.row(b), pc = g.rest.vertices.row(c);
     double twice_area = (pb - pa).cross(pc - pa).norm();
     if (a == b || b == c || a == c || !(twice_area > 1e-12 * diagonal * diagonal)) {
       ++degenerate;

@@ -28,15 +28,15 @@ struct PreparedData {
 };
 
 struct Garment {
-  TriMesh rest;                          // welded, degenerate triangles dropped
-  std::vector<int32_t> source_vertex;    // input vertex -> rest vertex
+  TriMesh rest;                        // welded, degenerate triangles dropped
+  std::vector<int32_t> source_vertex;  // input vertex -> rest vertex
   std::vector<Edge> edges;
   Csr graph;
   Points3d rest_normals;
   Eigen::VectorXd vertex_areas;
   pleat_mesh_report report{};
   std::optional<PreparedData> prepared;
-  std::string source;                    // file it came from, for messages
+  std::string source;  // file it came from, for messages
 };
 
 // Validates, welds and analyses a triangle soup. `source` names the origin in

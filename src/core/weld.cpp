@@ -62,7 +62,8 @@ WeldResult weld_vertices(const Points3d& vertices, double tolerance) {
     result.remap[v] = match;
   }
   result.vertices.resize(static_cast<Eigen::Index>(kept.size()), 3);
-  for (size_t k = 0; k < kept.size(); ++k) result.vertices.row(static_cast<Eigen::Index>(k)) = vertices.row(kept[k]);
+  for (size_t k = 0; k < kept.size(); ++k)
+    result.vertices.row(static_cast<Eigen::Index>(k)) = vertices.row(kept[k]);
   return result;
 }
 

@@ -8,9 +8,9 @@
 namespace pleat {
 
 struct WeldResult {
-  Points3d vertices;              // the kept vertices, in order of first use
-  std::vector<int32_t> remap;     // input vertex -> kept vertex
-  int32_t merged_count = 0;       // input vertices merged into an earlier one
+  Points3d vertices;           // the kept vertices, in order of first use
+  std::vector<int32_t> remap;  // input vertex -> kept vertex
+  int32_t merged_count = 0;    // input vertices merged into an earlier one
 };
 
 // Merges each vertex into the first earlier vertex within `tolerance`

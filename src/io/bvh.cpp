@@ -39,7 +39,9 @@ struct Line {
   std::vector<std::string_view> tokens;
 };
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 void split_tokens(std::string_view line, std::vector<std::string_view>* tokens) {
   tokens->clear();
@@ -92,13 +94,16 @@ class Parser {
   void parse() {
     Line line;
     if (!next_line(&line)) error(line_number_, "empty file, expected HIERARCHY");
-    if (line.tokens[0] != "HIERARCHY") error(line.number, "expected HIERARCHY, found '" + std::string(line.tokens[0]) + "'");
+    if (line.tokens[0] != "HIERARCHY")
+      error(line.number, "expected HIERARCHY, found '" + std::string(line.tokens[0]) + "'");
     if (line.tokens.size() > 1) error(line.number, "unexpected text after HIERARCHY");
     if (!next_line(&line)) error(line_number_, "missing ROOT");
-    if (line.tokens[0] != "ROOT") error(line.number, "expected ROOT, found '" + std::string(line.tokens[0]) + "'");
+    if (line.tokens[0] != "ROOT")
+      error(line.number, "expected ROOT, found '" + std::string(line.tokens[0]) + "'");
     parse_joint(line, -1);
     if (!next_line(&line)) error(line_number_, "missing MOTION section");
-    if (line.tokens[0] == "ROOT") error(line.number, "a second ROOT: only one skeleton per file is supported");
+    if (line.tokens[0] == "ROOT")
+      error(line.number, "a second ROOT: only one skeleton per file is supported");
     if (line.tokens[0] != "MOTION")
       error(line.number, "expected MOTION, found '" + std::string(line.tokens[0]) + "'");
     if (line.tokens.size() > 1) error(line.number, "unexpected text after MOTION");
@@ -130,7 +135,8 @@ class Parser {
         error(line.number, "expected '{' after " + std::string(header.tokens[0]) + " " + joint.name);
     }
     for (;;) {
-      if (!next_line(&line)) error(line_number_, "unexpected end of file in joint '" + joint.name + "' (missing '}')");
+      if (!next_line(&line))
+        error(line_number_, "unexpected end of file in joint '" + joint.name + "' (missing '}')");
       const std::string_view key = line.tokens[0];
       if (key == "}") {
         if (line.tokens.size() != 1) error(line.number, "unexpected text after '}'");
@@ -143,10 +149,12 @@ class Parser {
       } else if (key == "CHANNELS") {
         read_channels(line, index);
       } else if (key == "JOINT") {
-        if (!joints_[index].has_offset) error(line.number, "joint '" + joint.name + "' has no OFFSET before its children");
+        if (!joints_[index].has_offset)
+          error(line.number, "joint '" + joint.name + "' has no OFFSET before its children");
         parse_joint(line, index, depth + 1);
       } else if (key == "End" || key == "END" || key == "end") {
-        if (line.tokens.size() != 2 || (line.tokens[1] != "Site" && line.tokens[1] != "site" && line.tokens[1] != "SITE"))
+        if (line.tokens.size() != 2 ||
+            (line.tokens[1] != "Site" && line.tokens[1] != "site" && line.tokens[1] != "SITE"))
           error(line.number, "expected 'End Site'");
         parse_end_site(index);
       } else {
@@ -160,7 +168,8 @@ class Parser {
   Eigen::Vector3d read_offset(const Line& line, const std::string& what) const {
     if (line.tokens.size() != 4)
       error(line.number, what + " needs 3 values, found " + std::to_string(line.tokens.size() - 1));
-    return Eigen::Vector3d(number(line.tokens[1], line.number, what), number(line.tokens[2], line.number, what),
+    return Eigen::Vector3d(number(line.tokens[1], line.number, what),
+                           number(line.tokens[2], line.number, what),
                            number(line.tokens[3], line.number, what));
   }
 
@@ -174,7 +183,8 @@ class Parser {
     if (line.tokens.size() != static_cast<size_t>(count) + 2)
       error(line.number, "CHANNELS declares " + std::string(line.tokens[1]) + " channels but names " +
                              std::to_string(line.tokens.size() - 2));
-    static const char* const kNames[] = {"Xposition", "Yposition", "Zposition", "Xrotation", "Yrotation", "Zrotation"};
+    static const char* const kNames[] = {"Xposition", "Yposition", "Zposition",
+                                         "Xrotation", "Yrotation", "Zrotation"};
     for (size_t t = 2; t < line.tokens.size(); ++t) {
       int found = -1;
       for (int c = 0; c < 6; ++c)
@@ -224,7 +234,8 @@ class Parser {
     if (!next_line(&line)) error(line_number_, "missing 'Frame Time:'");
     t = line.tokens;
     if (t.size() == 4 && t[0] == "Frame" && t[1] == "Time" && t[2] == ":") t.erase(t.begin() + 2);
-    if (t.size() != 3 || t[0] != "Frame" || t[1] != "Time:") error(line.number, "expected 'Frame Time: <seconds>'");
+    if (t.size() != 3 || t[0] != "Frame" || t[1] != "Time:")
+      error(line.number, "expected 'Frame Time: <seconds>'");
     frame_time_ = number(t[2], line.number, "frame time");
     if (!(frame_time_ > 0)) error(line.number, "frame time must be positive, found " + std::string(t[2]));
     // Grow with the rows actually present: a lying header must not allocate.
@@ -236,15 +247,16 @@ class Parser {
         error(line.number, "more motion rows than 'Frames: " + std::to_string(frame_count_) + "'");
       if (static_cast<int32_t>(line.tokens.size()) != channel_count_)
         error(line.number, "frame " + std::to_string(row) + " has " + std::to_string(line.tokens.size()) +
-                               " values, the hierarchy declares " + std::to_string(channel_count_) + " channels");
+                               " values, the hierarchy declares " + std::to_string(channel_count_) +
+                               " channels");
       for (int32_t c = 0; c < channel_count_; ++c)
         values_.push_back(number(line.tokens[static_cast<size_t>(c)], line.number,
-                        "frame " + std::to_string(row) + ", value " + std::to_string(c + 1)));
+                                 "frame " + std::to_string(row) + ", value " + std::to_string(c + 1)));
       ++row;
     }
     if (row < frame_count_)
-      error(line_number_, "truncated MOTION data: " + std::to_string(row) + " rows, 'Frames: " +
-                              std::to_string(frame_count_) + "'");
+      error(line_number_, "truncated MOTION data: " + std::to_string(row) +
+                              " rows, 'Frames: " + std::to_string(frame_count_) + "'");
   }
 
   const std::string& text_;
@@ -268,11 +280,12 @@ struct UnitGuess {
 
 std::string BvhConversion::summary() const {
   char buffer[512];
-  std::snprintf(buffer, sizeof buffer,
-                "scale %.6g m/unit (%s%s), height %.4g units = %.3f m, %s, %s root positions, frame time %.7g s%s",
-                scale, unit.c_str(), scale_guessed ? ", guessed" : "", height_file_units, height_m,
-                z_up_converted ? "Z up rotated to Y up" : "Y up", positions_relative ? "relative" : "absolute",
-                frame_time, frame_rate_snapped ? " (rate snapped to a whole number)" : "");
+  std::snprintf(
+      buffer, sizeof buffer,
+      "scale %.6g m/unit (%s%s), height %.4g units = %.3f m, %s, %s root positions, frame time %.7g s%s",
+      scale, unit.c_str(), scale_guessed ? ", guessed" : "", height_file_units, height_m,
+      z_up_converted ? "Z up rotated to Y up" : "Y up", positions_relative ? "relative" : "absolute",
+      frame_time, frame_rate_snapped ? " (rate snapped to a whole number)" : "");
   std::string s = buffer;
   if (joints_with_positions > 0)
     s += ", " + std::to_string(joints_with_positions) + " non-root joints with position channels";
@@ -283,14 +296,18 @@ std::string BvhConversion::summary() const {
 }
 
 Eigen::Quaterniond bvh_euler_rotation(const std::string& order, const Eigen::Vector3d& degrees) {
-  if (order.size() != 3) fail(PLEAT_ERROR_INVALID_ARGUMENT, "bvh_euler_rotation: order '" + order + "' is not 3 axes");
+  if (order.size() != 3)
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "bvh_euler_rotation: order '" + order + "' is not 3 axes");
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   for (int i = 0; i < 3; ++i) {
     Eigen::Vector3d axis;
     switch (order[static_cast<size_t>(i)]) {
-      case 'X': case 'x': axis = Eigen::Vector3d::UnitX(); break;
-      case 'Y': case 'y': axis = Eigen::Vector3d::UnitY(); break;
-      case 'Z': case 'z': axis = Eigen::Vector3d::UnitZ(); break;
+      case 'X':
+      case 'x': axis = Eigen::Vector3d::UnitX(); break;
+      case 'Y':
+      case 'y': axis = Eigen::Vector3d::UnitY(); break;
+      case 'Z':
+      case 'z': axis = Eigen::Vector3d::UnitZ(); break;
       default: fail(PLEAT_ERROR_INVALID_ARGUMENT, "bvh_euler_rotation: bad axis in '" + order + "'");
     }
     q = q * Eigen::Quaterniond(Eigen::AngleAxisd(degrees[i] * kDegree, axis));
@@ -336,9 +353,9 @@ BvhClip parse_bvh(const std::string& text, const std::string& source, const BvhO
     conv.scale = options.scale;
     conv.unit = "given";
   } else {
-    static const UnitGuess kUnits[] = {{1.0, "metre"},          {0.1, "decimetre"},
-                                       {0.01, "centimetre"},    {0.001, "millimetre"},
-                                       {0.0254, "inch"},        {0.0254 / 0.45, "CMU ASF unit (1/0.45 inch)"}};
+    static const UnitGuess kUnits[] = {{1.0, "metre"},       {0.1, "decimetre"},
+                                       {0.01, "centimetre"}, {0.001, "millimetre"},
+                                       {0.0254, "inch"},     {0.0254 / 0.45, "CMU ASF unit (1/0.45 inch)"}};
     conv.scale_guessed = true;
     const double h = conv.height_file_units;
     if (!(h > 0.0)) {
@@ -393,8 +410,9 @@ BvhClip parse_bvh(const std::string& text, const std::string& source, const BvhO
   }
 
   // Axis change (Z up -> Y up: (x, y, z) -> (x, z, -y)) and scaling.
-  const Eigen::Quaterniond axes = z_up ? Eigen::Quaterniond(Eigen::AngleAxisd(-90.0 * kDegree, Eigen::Vector3d::UnitX()))
-                                       : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond axes =
+      z_up ? Eigen::Quaterniond(Eigen::AngleAxisd(-90.0 * kDegree, Eigen::Vector3d::UnitX()))
+           : Eigen::Quaterniond::Identity();
   const Eigen::Matrix3d axes_m = axes.toRotationMatrix();
   const double s = conv.scale;
   auto point = [&](const Eigen::Vector3d& v) -> Eigen::Vector3d { return s * (axes_m * v); };
@@ -475,18 +493,20 @@ BvhClip read_bvh(const std::string& path, const BvhOptions& options) {
 void bvh_frame_positions(const BvhClip& clip, int64_t frame, Points3d* joints, Points3d* end_sites) {
   const Motion& m = clip.motion;
   if (frame < 0 || frame >= m.frame_count)
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, "bvh_frame_positions: frame " + std::to_string(frame) + " outside [0, " +
-                                           std::to_string(m.frame_count) + ")");
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "bvh_frame_positions: frame " + std::to_string(frame) +
+                                           " outside [0, " + std::to_string(m.frame_count) + ")");
   Transforms global;
   forward_kinematics(m.skeleton, m.frame(frame), m.root_translation.row(frame).transpose(), &global);
   if (joints) {
     joints->resize(m.skeleton.joint_count(), 3);
-    for (size_t j = 0; j < global.size(); ++j) joints->row(static_cast<Eigen::Index>(j)) = global[j].translation().transpose();
+    for (size_t j = 0; j < global.size(); ++j)
+      joints->row(static_cast<Eigen::Index>(j)) = global[j].translation().transpose();
   }
   if (end_sites) {
     end_sites->resize(static_cast<Eigen::Index>(clip.end_sites.size()), 3);
     for (size_t e = 0; e < clip.end_sites.size(); ++e)
-      end_sites->row(static_cast<Eigen::Index>(e)) = (global[clip.end_sites[e].joint] * clip.end_sites[e].offset).transpose();
+      end_sites->row(static_cast<Eigen::Index>(e)) =
+          (global[clip.end_sites[e].joint] * clip.end_sites[e].offset).transpose();
   }
 }
 

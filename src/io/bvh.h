@@ -49,25 +49,25 @@ struct BvhOptions {
 
 // What the reader converted, for the record (meta.json, logs).
 struct BvhConversion {
-  double scale = 1.0;            // metres per file unit used
-  bool scale_guessed = false;    // true when guessed from the height
-  std::string unit;              // "metre", "centimetre", "inch", "CMU ASF unit", "given", "fit to 1.7 m", ...
-  double height_file_units = 0;  // rest skeleton extent along its up axis (joints and end sites)
-  double height_m = 0;           // the same in metres
-  bool z_up_converted = false;   // the file was Z up and was rotated to Y up
-  bool positions_relative = false;  // position channels were added to OFFSET
+  double scale = 1.0;          // metres per file unit used
+  bool scale_guessed = false;  // true when guessed from the height
+  std::string unit;            // "metre", "centimetre", "inch", "CMU ASF unit", "given", "fit to 1.7 m", ...
+  double height_file_units = 0;       // rest skeleton extent along its up axis (joints and end sites)
+  double height_m = 0;                // the same in metres
+  bool z_up_converted = false;        // the file was Z up and was rotated to Y up
+  bool positions_relative = false;    // position channels were added to OFFSET
   int32_t joints_with_positions = 0;  // non-root joints with position channels
-  double frame_time = 0;         // as in the header (seconds)
+  double frame_time = 0;              // as in the header (seconds)
   bool frame_rate_snapped = false;
-  int32_t channel_count = 0;     // values per MOTION row
-  double dropped_translation_m = 0;   // largest non-root position channel deviation from OFFSET (metres)
+  int32_t channel_count = 0;              // values per MOTION row
+  double dropped_translation_m = 0;       // largest non-root position channel deviation from OFFSET (metres)
   std::string dropped_translation_joint;  // where it occurred ("" if none)
-  std::string summary() const;   // one line, human readable
+  std::string summary() const;            // one line, human readable
 };
 
 struct BvhEndSite {
-  int32_t joint = 0;          // the joint the End Site belongs to
-  Eigen::Vector3d offset;     // in that joint's frame, metres, Y up
+  int32_t joint = 0;       // the joint the End Site belongs to
+  Eigen::Vector3d offset;  // in that joint's frame, metres, Y up
 };
 
 struct BvhClip {

@@ -15,8 +15,7 @@ namespace fb = pleat::schema;
 namespace {
 
 template <typename T>
-flatbuffers::Offset<flatbuffers::Vector<T>> vec(flatbuffers::FlatBufferBuilder& b, const T* data,
-                                                size_t n) {
+flatbuffers::Offset<flatbuffers::Vector<T>> vec(flatbuffers::FlatBufferBuilder& b, const T* data, size_t n) {
   return b.CreateVector(data, n);
 }
 
@@ -33,8 +32,8 @@ const flatbuffers::Vector<T>& required(const flatbuffers::Vector<T>* v, const st
 
 void expect_size(size_t actual, size_t expected, const std::string& source, const char* field) {
   if (actual != expected)
-    bad(source, std::string("field '") + field + "' has " + std::to_string(actual) +
-                    " values, expected " + std::to_string(expected));
+    bad(source, std::string("field '") + field + "' has " + std::to_string(actual) + " values, expected " +
+                    std::to_string(expected));
 }
 
 }  // namespace
@@ -65,8 +64,8 @@ std::vector<uint8_t> serialize_garment(const Garment& g) {
                                         vec(b, geo.indices.data(), geo.indices.size()));
   }
   auto root = fb::CreateGarment(b, kGarmentFormatVersion, b.CreateString("pleat " PLEAT_VERSION_STRING),
-                                b.CreateString(g.source), vertices, triangles, source_vertex, report,
-                                bands, geodesic);
+                                b.CreateString(g.source), vertices, triangles, source_vertex, report, bands,
+                                geodesic);
   fb::FinishGarmentBuffer(b, root);
   return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }
@@ -94,10 +93,10 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   if (!fb::VerifyGarmentBuffer(verifier)) bad(source, "file is corrupt or truncated (FlatBuffers verifier)");
   const fb::Garment* root = fb::GetGarment(data);
   if (root->format_version() > kGarmentFormatVersion)
-    fail(PLEAT_ERROR_UNSUPPORTED_VERSION,
-         source + ": format_version " + std::to_string(root->format_version()) +
-             " is newer than this pleat reads (" + std::to_string(kGarmentFormatVersion) +
-             "); upgrade pleat");
+    fail(PLEAT_ERROR_UNSUPPORTED_VERSION, source + ": format_version " +
+                                              std::to_string(root->format_version()) +
+                                              " is newer than this pleat reads (" +
+                                              std::to_string(kGarmentFormatVersion) + "); upgrade pleat");
   if (root->format_version() == 0) bad(source, "field 'format_version' is 0");
 
   Garment g;
@@ -105,14 +104,17 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   const auto& vertices = required(root->vertices(), source, "vertices");
   const auto& triangles = required(root->triangles(), source, "triangles");
   if (vertices.size() == 0 || vertices.size() % 3 != 0)
-    bad(source, "field 'vertices' has " + std::to_string(vertices.size()) + " values, not a positive multiple of 3");
+    bad(source,
+        "field 'vertices' has " + std::to_string(vertices.size()) + " values, not a positive multiple of 3");
   if (triangles.size() == 0 || triangles.size() % 3 != 0)
-    bad(source, "field 'triangles' has " + std::to_string(triangles.size()) + " values, not a positive multiple of 3");
+    bad(source, "field 'triangles' has " + std::to_string(triangles.size()) +
+                    " values, not a positive multiple of 3");
   const auto n = static_cast<Eigen::Index>(vertices.size() / 3);
   g.rest.vertices = Eigen::Map<const Points3d>(vertices.data(), n, 3);
   if (!g.rest.vertices.allFinite() || g.rest.vertices.cwiseAbs().maxCoeff() > kMaxCoordinate)
     bad(source, "field 'vertices' holds a non-finite or huge value");
-  g.rest.triangles = Eigen::Map<const Triangles>(triangles.data(), static_cast<Eigen::Index>(triangles.size() / 3), 3);
+  g.rest.triangles =
+      Eigen::Map<const Triangles>(triangles.data(), static_cast<Eigen::Index>(triangles.size() / 3), 3);
   for (Eigen::Index i = 0; i < g.rest.triangles.size(); ++i)
     if (g.rest.triangles.data()[i] < 0 || g.rest.triangles.data()[i] >= n)
       bad(source, "field 'triangles' index " + std::to_string(i) + " is out of range");
@@ -137,7 +139,8 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   r.degenerate_triangle_count = report->degenerate_triangle_count();
   r.isolated_vertex_count = report->isolated_vertex_count();
   r.units = report->units();
-  const Eigen::RowVector3d lo = g.rest.vertices.colwise().minCoeff(), hi = g.rest.vertices.colwise().maxCoeff();
+  const Eigen::RowVector3d lo = g.rest.vertices.colwise().minCoeff(),
+                           hi = g.rest.vertices.colwise().maxCoeff();
   for (int c = 0; c < 3; ++c) {
     r.bbox_min[c] = static_cast<float>(lo[c]);
     r.bbox_max[c] = static_cast<float>(hi[c]);
@@ -158,7 +161,8 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   bb.mid_requested = bands->mid_requested();
   if (bb.mid_count < 1 || bb.mid_count > n || bb.low_count < 1 || bb.low_count > bb.mid_count)
     bad(source, "fields 'bands.low_count' " + std::to_string(bb.low_count) + " / 'bands.mid_count' " +
-                    std::to_string(bb.mid_count) + " are inconsistent with " + std::to_string(n) + " vertices");
+                    std::to_string(bb.mid_count) + " are inconsistent with " + std::to_string(n) +
+                    " vertices");
   if (bands->solver() < PLEAT_SOLVER_DENSE || bands->solver() > PLEAT_SOLVER_HYBRID)
     bad(source, "field 'bands.solver' has unknown value " + std::to_string(bands->solver()));
   if (bands->projection() > PLEAT_PROJECTION_SYMMETRIC)
@@ -172,7 +176,8 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   const auto& sqrt_degree = required(bands->sqrt_degree(), source, "bands.sqrt_degree");
   if (eigenvalues.size() < static_cast<uint32_t>(bb.mid_count))
     bad(source, "field 'bands.eigenvalues' has fewer than mid_count values");
-  expect_size(vectors.size(), static_cast<size_t>(n) * static_cast<size_t>(bb.mid_count), source, "bands.vectors");
+  expect_size(vectors.size(), static_cast<size_t>(n) * static_cast<size_t>(bb.mid_count), source,
+              "bands.vectors");
   expect_size(sqrt_degree.size(), static_cast<size_t>(n), source, "bands.sqrt_degree");
   bb.eigenvalues = Eigen::Map<const Eigen::VectorXd>(eigenvalues.data(), eigenvalues.size());
   bb.vectors = Eigen::Map<const Eigen::MatrixXf>(vectors.data(), n, bb.mid_count);

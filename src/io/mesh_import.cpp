@@ -38,7 +38,6 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
   for (unsigned c = 0; c < node->mNumChildren; ++c) collect(scene, node->mChildren[c], transform, out);
 }
 
-
 }  // namespace
 
 ImportedMesh import_mesh(const std::string& path) {
@@ -59,9 +58,11 @@ ImportedMesh import_mesh(const std::string& path) {
 
   ImportedMesh mesh;
   mesh.unit_scale = scene_unit_scale(scene);
-  mesh.vertices = Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
-                  mesh.unit_scale;
-  mesh.triangles = Eigen::Map<Triangles>(c.indices.data(), static_cast<Eigen::Index>(c.indices.size() / 3), 3);
+  mesh.vertices =
+      Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
+      mesh.unit_scale;
+  mesh.triangles =
+      Eigen::Map<Triangles>(c.indices.data(), static_cast<Eigen::Index>(c.indices.size() / 3), 3);
   return mesh;
 }
 

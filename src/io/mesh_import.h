@@ -7,7 +7,7 @@
 namespace pleat {
 
 struct ImportedMesh {
-  Points3d vertices;     // in metres where the file declares its unit
+  Points3d vertices;  // in metres where the file declares its unit
   Triangles triangles;
   double unit_scale = 1.0;  // factor applied from the file's own unit metadata
 };

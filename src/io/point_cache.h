@@ -19,8 +19,8 @@
 //   replaced by the zero-padded frame number ("out/shirt_####.obj" ->
 //   "out/shirt_0000.obj", ...; wider numbers use more digits). Writing numbers
 //   frames from 0 and deletes the consecutive frames after the last one that an
-//   earlier, longer write left (they would lengthen the sequence on reading). Reading starts at frame 0, or at 1 when there is no frame 0
-//   (Blender's exporter starts at the scene's first frame, 1 by default), and
+//   earlier, longer write left (they would lengthen the sequence on reading). Reading starts at frame 0, or
+//   at 1 when there is no frame 0 (Blender's exporter starts at the scene's first frame, 1 by default), and
 //   counts consecutive files; only 'v' lines are read. No frame rate is stored:
 //   reading reports 30 fps and start_time = first frame number / 30.
 //

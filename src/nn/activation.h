@@ -26,20 +26,11 @@ struct Activation {
 inline void apply_activation(const Activation& act, float* data, Index count) {
   Eigen::Map<Eigen::ArrayXf> a(data, count);
   switch (act.kind) {
-    case ActivationKind::identity:
-      return;
-    case ActivationKind::tanh:
-      a = a.tanh();
-      return;
-    case ActivationKind::relu:
-      a = a.max(0.0f);
-      return;
-    case ActivationKind::leaky_relu:
-      a = (a > 0.0f).select(a, a * act.parameter);
-      return;
-    case ActivationKind::elu:
-      a = (a > 0.0f).select(a, act.parameter * (a.exp() - 1.0f));
-      return;
+    case ActivationKind::identity: return;
+    case ActivationKind::tanh: a = a.tanh(); return;
+    case ActivationKind::relu: a = a.max(0.0f); return;
+    case ActivationKind::leaky_relu: a = (a > 0.0f).select(a, a * act.parameter); return;
+    case ActivationKind::elu: a = (a > 0.0f).select(a, act.parameter * (a.exp() - 1.0f)); return;
   }
 }
 

@@ -12,12 +12,9 @@ constexpr const char* kKind = "graph attention layer";
 
 const char* variant_name(AttentionVariant v) {
   switch (v) {
-    case AttentionVariant::gat:
-      return "gat";
-    case AttentionVariant::lgat:
-      return "lgat";
-    case AttentionVariant::flexigat:
-      return "flexigat";
+    case AttentionVariant::gat: return "gat";
+    case AttentionVariant::lgat: return "lgat";
+    case AttentionVariant::flexigat: return "flexigat";
   }
   return "?";
 }
@@ -31,8 +28,8 @@ using ConstPacketMap = Eigen::Map<const Packet>;
 // element as the scalar path: edges in CSR order (heads in order within an
 // edge for mean), then the self term, then the bias.
 template <bool kConcat>
-inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb,
-                               const float* z, Index zstride, const float* zi, const float* a,
+inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb, const float* z,
+                               Index zstride, const float* zi, const float* a,
                                const float* neighbour_coefficient, const float* self_coefficient,
                                const float* bias, float* row) {
   const Index out_vectors = (kConcat ? heads * d : d) / 4;
@@ -83,7 +80,8 @@ inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int
       if constexpr (kConcat) {
         acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap(zj);
       } else {
-        for (int32_t h = 0; h < heads; ++h) acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
+        for (int32_t h = 0; h < heads; ++h)
+          acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
       }
     }
     if (self_coefficient != nullptr) {
@@ -105,8 +103,8 @@ inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int
 // max-shifted softmax per head. Generic head count.
 template <bool kLipschitz>
 inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t i, int32_t degree,
-                           const int32_t* nb, const float* z, Index zstride, Index width,
-                           const float* norms, float* a, float* lipschitz_denominator) {
+                           const int32_t* nb, const float* z, Index zstride, Index width, const float* norms,
+                           float* a, float* lipschitz_denominator) {
   const float* self_score = z + static_cast<Index>(i) * zstride + width;
   float inverse_denominator[kMaxAttentionHeads];
   if constexpr (kLipschitz) {
@@ -154,9 +152,9 @@ inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t
 
 // The same with kPackets * 4 heads, one packet per 4 heads and edge.
 template <int kPackets, bool kLipschitz>
-inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t degree,
-                            const int32_t* nb, const float* z, Index zstride, Index width,
-                            const float* norms, float* a, float* lipschitz_denominator) {
+inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t degree, const int32_t* nb,
+                            const float* z, Index zstride, Index width, const float* norms, float* a,
+                            float* lipschitz_denominator) {
   constexpr int kHeads = 4 * kPackets;
   const float* self_score = z + static_cast<Index>(i) * zstride + width;
   Packet self[kPackets], inverse_denominator[kPackets], largest[kPackets], sum[kPackets];
@@ -207,8 +205,8 @@ inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t de
 // loops carry no branches.
 template <int kHeads, bool kLipschitz, bool kConcat>
 void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph, const float* z,
-                     Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
-                     Index ostride, float* alpha, float* scratch, float* lipschitz_denominator) {
+                     Index zstride, const float* norms, int32_t begin, int32_t end, float* out, Index ostride,
+                     float* alpha, float* scratch, float* lipschitz_denominator) {
   const int32_t heads = kHeads > 0 ? kHeads : params.heads;
   const Index d = params.head_width;
   const Index width = static_cast<Index>(heads) * d;  // columns of z holding z_j
@@ -242,7 +240,7 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
     if constexpr (kHeads > 0 && kHeads % 4 == 0) {
       // Heads in SIMD lanes: one edge's logits are kHeads / 4 packets.
       softmax_packets<kHeads / 4, kLipschitz>(params, i, degree, nb, z, zstride, width, norms, a,
-                                                lipschitz_denominator);
+                                              lipschitz_denominator);
     } else {
       softmax_scalar<kLipschitz>(params, heads, i, degree, nb, z, zstride, width, norms, a,
                                  lipschitz_denominator);
@@ -300,8 +298,8 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
 
 template <int kHeads>
 void aggregate_dispatch(const AttentionParams& p, const AttentionGraph& g, const float* z, Index zs,
-                        const float* norms, int32_t begin, int32_t end, float* out, Index os,
-                        float* alpha, float* scratch, float* den) {
+                        const float* norms, int32_t begin, int32_t end, float* out, Index os, float* alpha,
+                        float* scratch, float* den) {
   const bool concat = p.merge == HeadMerge::concat;
   if (p.lipschitz) {
     if (concat)
@@ -322,9 +320,9 @@ AttentionGraph attention_graph(const Csr& graph) {
   const int32_t n = graph.vertex_count();
   if (n < 0 || graph.offsets.empty() || graph.offsets.front() != 0 ||
       static_cast<size_t>(graph.offsets.back()) != graph.indices.size())
-    invalid(kKind, "attention_graph",
-            "mesh graph offsets are inconsistent with its " + std::to_string(graph.indices.size()) +
-                " indices");
+    invalid(
+        kKind, "attention_graph",
+        "mesh graph offsets are inconsistent with its " + std::to_string(graph.indices.size()) + " indices");
   AttentionGraph out;
   out.offsets.assign(static_cast<size_t>(n) + 1, 0);
   out.sources.reserve(graph.indices.size() + static_cast<size_t>(n));
@@ -367,8 +365,9 @@ void GraphAttentionLayer::prepare() {
   if (bias.size() != 0) check_shape(kKind, name, "bias", 1, bias.size(), 1, out_width());
   if (!weight.allFinite() || !attention.allFinite() || !bias.allFinite() ||
       (variant == AttentionVariant::flexigat && (!p.allFinite() || !q.allFinite())))
-    invalid(kKind, name, std::string("a parameter of the ") + variant_name(variant) +
-                             " layer holds a NaN or infinite value");
+    invalid(
+        kKind, name,
+        std::string("a parameter of the ") + variant_name(variant) + " layer holds a NaN or infinite value");
   if (!(lipschitz_epsilon > 0.0f) && variant == AttentionVariant::lgat)
     invalid(kKind, name, "lipschitz_epsilon must be > 0");
 
@@ -409,8 +408,8 @@ AttentionParams attention_params(const GraphAttentionLayer& layer) {
   return params;
 }
 
-void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride,
-                          int32_t begin, int32_t end, float* norms) {
+void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride, int32_t begin,
+                          int32_t end, float* norms) {
   const int32_t heads = params.heads;
   const Index d = params.head_width;
   for (int32_t j = begin; j < end; ++j) {
@@ -423,26 +422,25 @@ void attention_node_norms(const AttentionParams& params, const float* projected,
   }
 }
 
-void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph,
-                         const float* projected, Index zstride, const float* norms, int32_t begin,
-                         int32_t end, float* out, Index ostride, float* alpha, float* scratch,
-                         float* lipschitz_denominator) {
+void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph, const float* projected,
+                         Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
+                         Index ostride, float* alpha, float* scratch, float* lipschitz_denominator) {
   switch (params.heads) {
     case 1:
-      return aggregate_dispatch<1>(params, graph, projected, zstride, norms, begin, end, out,
-                                   ostride, alpha, scratch, lipschitz_denominator);
+      return aggregate_dispatch<1>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
+                                   scratch, lipschitz_denominator);
     case 2:
-      return aggregate_dispatch<2>(params, graph, projected, zstride, norms, begin, end, out,
-                                   ostride, alpha, scratch, lipschitz_denominator);
+      return aggregate_dispatch<2>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
+                                   scratch, lipschitz_denominator);
     case 4:
-      return aggregate_dispatch<4>(params, graph, projected, zstride, norms, begin, end, out,
-                                   ostride, alpha, scratch, lipschitz_denominator);
+      return aggregate_dispatch<4>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
+                                   scratch, lipschitz_denominator);
     case 8:
-      return aggregate_dispatch<8>(params, graph, projected, zstride, norms, begin, end, out,
-                                   ostride, alpha, scratch, lipschitz_denominator);
+      return aggregate_dispatch<8>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
+                                   scratch, lipschitz_denominator);
     default:
-      return aggregate_dispatch<0>(params, graph, projected, zstride, norms, begin, end, out,
-                                   ostride, alpha, scratch, lipschitz_denominator);
+      return aggregate_dispatch<0>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
+                                   scratch, lipschitz_denominator);
   }
 }
 
@@ -462,7 +460,7 @@ struct ForwardJob {
   Index in_width;
   float* z;
   Index z_width;
-  float* norms;  // lgat only
+  float* norms;   // lgat only
   float* target;  // pre-activation rows (the output itself unless saved)
   Index target_stride;
   float* out;
@@ -481,35 +479,34 @@ void project_task(void* context, int32_t task) {
   const int32_t begin = task * kAttentionTaskRows;
   const int32_t end = std::min(job.n, begin + kAttentionTaskRows);
   MatrixMap z = view(job.z + static_cast<Index>(begin) * job.z_width, end - begin, job.z_width);
-  z.noalias() = view(job.v + static_cast<Index>(begin) * job.v_stride, end - begin, job.in_width,
-                     job.v_stride) *
-                *job.folded;
-  if (job.norms != nullptr)
-    attention_node_norms(*job.params, job.z, job.z_width, begin, end, job.norms);
+  z.noalias() =
+      view(job.v + static_cast<Index>(begin) * job.v_stride, end - begin, job.in_width, job.v_stride) *
+      *job.folded;
+  if (job.norms != nullptr) attention_node_norms(*job.params, job.z, job.z_width, begin, end, job.norms);
 }
 
 void aggregate_task(void* context, int32_t task) {
   const ForwardJob& job = *static_cast<const ForwardJob*>(context);
   const int32_t begin = task * kAttentionTaskRows;
   const int32_t end = std::min(job.n, begin + kAttentionTaskRows);
-  attention_aggregate(*job.params, *job.graph, job.z, job.z_width, job.norms, begin, end,
-                      job.target, job.target_stride, job.alpha,
-                      job.scratch + static_cast<size_t>(task) * job.scratch_per_task,
-                      job.lipschitz_denominator);
-  MatrixMap out = view(job.out + static_cast<Index>(begin) * job.out_stride, end - begin,
-                       job.out_width, job.out_stride);
+  attention_aggregate(
+      *job.params, *job.graph, job.z, job.z_width, job.norms, begin, end, job.target, job.target_stride,
+      job.alpha, job.scratch + static_cast<size_t>(task) * job.scratch_per_task, job.lipschitz_denominator);
+  MatrixMap out =
+      view(job.out + static_cast<Index>(begin) * job.out_stride, end - begin, job.out_width, job.out_stride);
   if (job.target != job.out)
     out = view(static_cast<const float*>(job.target) + static_cast<Index>(begin) * job.target_stride,
                end - begin, job.out_width, job.target_stride);
   apply_activation(job.activation, out);
 }
 
-int32_t task_count(int32_t n) { return (n + kAttentionTaskRows - 1) / kAttentionTaskRows; }
+int32_t task_count(int32_t n) {
+  return (n + kAttentionTaskRows - 1) / kAttentionTaskRows;
+}
 
 }  // namespace
 
-size_t GraphAttentionWorkspace::floats_needed(const GraphAttentionLayer& layer,
-                                              const AttentionGraph& graph) {
+size_t GraphAttentionWorkspace::floats_needed(const GraphAttentionLayer& layer, const AttentionGraph& graph) {
   const int32_t n = std::max(graph.node_count(), 0);
   const size_t nn = static_cast<size_t>(n);
   const size_t heads = static_cast<size_t>(std::max(layer.heads, 1));
@@ -522,8 +519,8 @@ void GraphAttentionWorkspace::reserve(const GraphAttentionLayer& layer, const At
   scratch_.reserve(floats_needed(layer, graph));
 }
 
-void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGraph& graph,
-                             ConstMatrixRef v, MatrixRef out, GraphAttentionWorkspace& workspace,
+void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGraph& graph, ConstMatrixRef v,
+                             MatrixRef out, GraphAttentionWorkspace& workspace,
                              const GraphAttentionSaved* saved, Executor* executor) {
   const std::string& name = layer.name;
   const int32_t heads = layer.heads;
@@ -546,8 +543,8 @@ void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGr
   const bool lipschitz = layer.variant == AttentionVariant::lgat;
   const int32_t tasks = task_count(n);
   const size_t per_task = attention_scratch_floats(hh, static_cast<size_t>(layer.weight.cols()), graph);
-  const size_t needed = (own_projection ? nn * static_cast<size_t>(pw) : 0) +
-                        (lipschitz ? nn * hh : 0) + static_cast<size_t>(tasks) * per_task;
+  const size_t needed = (own_projection ? nn * static_cast<size_t>(pw) : 0) + (lipschitz ? nn * hh : 0) +
+                        static_cast<size_t>(tasks) * per_task;
   check_scratch(kKind, name, "GraphAttentionWorkspace", needed, workspace.scratch().capacity());
 
   float* cursor = workspace.scratch().data();

@@ -76,10 +76,10 @@ struct GraphAttentionLayer {
   // loading or changing any parameter; the forward throws if they are stale
   // in shape (it cannot see changed values).
   void prepare();
-  MatrixRM folded;             // in x projected_width: [W | S | T]
-  RowVector self_norm;         // heads: ||a_h[:d']||
-  RowVector neighbour_norm;    // heads: ||a_h[d':]||
-  RowVector self_coefficient;  // heads: P - Q (0 for gat, lgat)
+  MatrixRM folded;                  // in x projected_width: [W | S | T]
+  RowVector self_norm;              // heads: ||a_h[:d']||
+  RowVector neighbour_norm;         // heads: ||a_h[d':]||
+  RowVector self_coefficient;       // heads: P - Q (0 for gat, lgat)
   RowVector neighbour_coefficient;  // heads: Q (1 for gat, lgat)
 };
 
@@ -88,7 +88,7 @@ struct AttentionParams {
   int32_t heads = 1;
   int32_t head_width = 1;
   HeadMerge merge = HeadMerge::concat;
-  bool lipschitz = false;           // lgat
+  bool lipschitz = false;  // lgat
   float negative_slope = 0.2f;
   float lipschitz_epsilon = 1e-6f;
   const float* self_coefficient = nullptr;       // heads: P - Q
@@ -101,8 +101,8 @@ AttentionParams attention_params(const GraphAttentionLayer& layer);
 
 // Per-node head norms ||z_j^h|| for LGAT: norms[j * heads + h], nodes
 // [begin, end). projected: N x (heads*d' + 2*heads), row stride zstride.
-void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride,
-                          int32_t begin, int32_t end, float* norms);
+void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride, int32_t begin,
+                          int32_t end, float* norms);
 
 // The fused kernel for destination nodes [begin, end): writes
 // y_i + bias (pre-activation) to out (row stride ostride). Nodes are
@@ -112,20 +112,19 @@ void attention_node_norms(const AttentionParams& params, const float* projected,
 // scratch: attention_scratch_floats(heads, heads * head_width, graph) floats,
 // private to the calling thread.
 // lipschitz_denominator: N x heads output (the divisor of each logit) or null.
-void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph,
-                         const float* projected, Index zstride, const float* norms, int32_t begin,
-                         int32_t end, float* out, Index ostride, float* alpha, float* scratch,
-                         float* lipschitz_denominator);
+void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph, const float* projected,
+                         Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
+                         Index ostride, float* alpha, float* scratch, float* lipschitz_denominator);
 
 size_t attention_scratch_floats(size_t heads, size_t heads_times_width, const AttentionGraph& graph);
 
 // Intermediate values a backward needs, each optional (null: not saved).
 // Row-major, contiguous.
 struct GraphAttentionSaved {
-  float* projected = nullptr;       // N x projected_width: Z = V [W | S | T]
-  float* alpha = nullptr;           // E x heads, edge order of the AttentionGraph
+  float* projected = nullptr;              // N x projected_width: Z = V [W | S | T]
+  float* alpha = nullptr;                  // E x heads, edge order of the AttentionGraph
   float* lipschitz_denominator = nullptr;  // N x heads (lgat)
-  float* pre_activation = nullptr;  // N x out_width: y + bias
+  float* pre_activation = nullptr;         // N x out_width: y + bias
 };
 
 class GraphAttentionWorkspace {
@@ -149,9 +148,8 @@ constexpr int32_t kAttentionTaskRows = 512;
 // phases on `executor` (null: the calling thread): Z = V [W | S | T] (+ LGAT
 // norms) per block of rows, then the fused aggregation + bias + activation
 // per block. Allocates nothing (throws if the workspace is too small).
-void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGraph& graph,
-                             ConstMatrixRef v, MatrixRef out, GraphAttentionWorkspace& workspace,
-                             const GraphAttentionSaved* saved = nullptr,
-                             Executor* executor = nullptr);
+void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGraph& graph, ConstMatrixRef v,
+                             MatrixRef out, GraphAttentionWorkspace& workspace,
+                             const GraphAttentionSaved* saved = nullptr, Executor* executor = nullptr);
 
 }  // namespace pleat::nn

@@ -15,18 +15,15 @@ void check_layers(const Gru& gru) {
     const GruLayer& layer = gru.layers[l];
     const std::string p = "layer " + std::to_string(l) + " ";
     const Index in = l == 0 ? gru.input_width() : h;
-    check_shape(kKind, gru.name, (p + "w_ih").c_str(), layer.w_ih.rows(), layer.w_ih.cols(), in,
-                3 * h);
-    check_shape(kKind, gru.name, (p + "w_hh").c_str(), layer.w_hh.rows(), layer.w_hh.cols(), h,
-                3 * h);
+    check_shape(kKind, gru.name, (p + "w_ih").c_str(), layer.w_ih.rows(), layer.w_ih.cols(), in, 3 * h);
+    check_shape(kKind, gru.name, (p + "w_hh").c_str(), layer.w_hh.rows(), layer.w_hh.cols(), h, 3 * h);
     check_shape(kKind, gru.name, (p + "b_ih").c_str(), 1, layer.b_ih.size(), 1, 3 * h);
     check_shape(kKind, gru.name, (p + "b_hh").c_str(), 1, layer.b_hh.size(), 1, 3 * h);
   }
 }
 
 // One layer, one step, in place on h (batch x H). gi, gh: batch x 3H scratch.
-void layer_step(const GruLayer& layer, ConstMatrixRef x, MatrixRef h, MatrixMap gi,
-                MatrixMap gh) {
+void layer_step(const GruLayer& layer, ConstMatrixRef x, MatrixRef h, MatrixMap gi, MatrixMap gh) {
   const Index hw = h.cols();
   gi.noalias() = x * layer.w_ih;
   gh.noalias() = h * layer.w_hh;
@@ -56,8 +53,7 @@ void step_all(const Gru& gru, ConstMatrixRef x, MatrixRef state, Index batch, fl
     if (l == 0) {
       layer_step(gru.layers[0], x, h, gi, gh);
     } else {
-      layer_step(gru.layers[static_cast<size_t>(l)], state.middleRows((l - 1) * batch, batch), h,
-                 gi, gh);
+      layer_step(gru.layers[static_cast<size_t>(l)], state.middleRows((l - 1) * batch, batch), h, gi, gh);
     }
   }
 }
@@ -75,15 +71,13 @@ void gru_step(const Gru& gru, ConstMatrixRef x, MatrixRef state, GruWorkspace& w
   check_layers(gru);
   const Index batch = x.rows(), hw = gru.hidden_width();
   check_shape(kKind, gru.name, "input x", x.rows(), x.cols(), -1, gru.input_width());
-  check_shape(kKind, gru.name, "state", state.rows(), state.cols(), gru.layer_count() * batch,
-              hw);
+  check_shape(kKind, gru.name, "state", state.rows(), state.cols(), gru.layer_count() * batch, hw);
   check_scratch(kKind, gru.name, "GruWorkspace", 6 * static_cast<size_t>(batch * hw),
                 workspace.scratch().capacity());
   step_all(gru, x, state, batch, workspace.scratch().data());
 }
 
-void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out,
-                GruWorkspace& workspace) {
+void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out, GruWorkspace& workspace) {
   check_layers(gru);
   if (steps <= 0) invalid(kKind, gru.name, "window needs at least one step");
   const Index hw = gru.hidden_width();
@@ -95,8 +89,7 @@ void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out,
   check_shape(kKind, gru.name, "input x", x.rows(), x.cols(), steps * batch, gru.input_width());
   check_shape(kKind, gru.name, "output", out.rows(), out.cols(), batch, hw);
   const size_t gates = 6 * static_cast<size_t>(batch * hw);
-  check_scratch(kKind, gru.name, "GruWorkspace",
-                gates + static_cast<size_t>(gru.layer_count() * batch * hw),
+  check_scratch(kKind, gru.name, "GruWorkspace", gates + static_cast<size_t>(gru.layer_count() * batch * hw),
                 workspace.scratch().capacity());
   float* scratch = workspace.scratch().data();
   MatrixMap state = view(scratch + gates, gru.layer_count() * batch, hw);

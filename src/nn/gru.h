@@ -14,10 +14,10 @@
 namespace pleat::nn {
 
 struct GruLayer {
-  MatrixRM w_ih;    // in x 3H, column blocks [r | z | n]  (= weight_ih_l{k} transposed)
-  MatrixRM w_hh;    // H x 3H, column blocks [r | z | n]   (= weight_hh_l{k} transposed)
-  RowVector b_ih;   // 3H  (bias_ih_l{k})
-  RowVector b_hh;   // 3H  (bias_hh_l{k}); b_hn stays inside r * (...)
+  MatrixRM w_ih;   // in x 3H, column blocks [r | z | n]  (= weight_ih_l{k} transposed)
+  MatrixRM w_hh;   // H x 3H, column blocks [r | z | n]   (= weight_hh_l{k} transposed)
+  RowVector b_ih;  // 3H  (bias_ih_l{k})
+  RowVector b_hh;  // 3H  (bias_hh_l{k}); b_hn stays inside r * (...)
 };
 
 struct Gru {
@@ -57,7 +57,6 @@ void gru_step(const Gru& gru, ConstMatrixRef x, MatrixRef state, GruWorkspace& w
 // layer's hidden state after the last step. Runs exactly the code of
 // gru_step, so it equals feeding the same steps to gru_step one by one
 // bit for bit.
-void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out,
-                GruWorkspace& workspace);
+void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out, GruWorkspace& workspace);
 
 }  // namespace pleat::nn

@@ -42,16 +42,14 @@ void mlp_forward(const Mlp& mlp, ConstMatrixRef x, MatrixRef y, MlpWorkspace& wo
       if (l == 0) {
         dense_forward(layer, x, mlp.output_activation, y);
       } else {
-        dense_forward(layer, view(buffers[(l - 1) % 2], rows, layer.in_width()),
-                      mlp.output_activation, y);
+        dense_forward(layer, view(buffers[(l - 1) % 2], rows, layer.in_width()), mlp.output_activation, y);
       }
     } else {
       MatrixMap out = view(buffers[l % 2], rows, layer.out_width());
       if (l == 0) {
         dense_forward(layer, x, mlp.hidden_activation, out);
       } else {
-        dense_forward(layer, view(buffers[(l - 1) % 2], rows, layer.in_width()),
-                      mlp.hidden_activation, out);
+        dense_forward(layer, view(buffers[(l - 1) % 2], rows, layer.in_width()), mlp.hidden_activation, out);
       }
     }
   }

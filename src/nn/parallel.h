@@ -57,7 +57,7 @@ class ThreadPool final : public Executor {
   std::condition_variable wake_;
   std::condition_variable done_;
   std::atomic<uint64_t> generation_{0};  // written under mutex_, spun on without it
-  int32_t busy_ = 0;  // workers inside drain()
+  int32_t busy_ = 0;                     // workers inside drain()
   bool stop_ = false;
   TaskFn fn_ = nullptr;
   void* context_ = nullptr;

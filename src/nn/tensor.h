@@ -52,11 +52,11 @@ class Scratch {
 // Throws pleat::Error(PLEAT_ERROR_INVALID_ARGUMENT) with
 // "<kind> '<layer>': <tensor> is RxC, expected ER x EC" unless the shape
 // matches. A negative expected extent matches anything.
-void check_shape(const char* kind, const std::string& layer, const char* tensor, Index rows,
-                 Index cols, Index expected_rows, Index expected_cols);
+void check_shape(const char* kind, const std::string& layer, const char* tensor, Index rows, Index cols,
+                 Index expected_rows, Index expected_cols);
 [[noreturn]] void invalid(const char* kind, const std::string& layer, const std::string& what);
 // "needs N floats, has M; call reserve()" for a too-small workspace.
-void check_scratch(const char* kind, const std::string& layer, const char* workspace,
-                   size_t needed, size_t capacity);
+void check_scratch(const char* kind, const std::string& layer, const char* workspace, size_t needed,
+                   size_t capacity);
 
 }  // namespace pleat::nn

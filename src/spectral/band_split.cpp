@@ -52,10 +52,9 @@ void split_bands(const BandBasis<Scalar>& basis, const Scalar* positions, size_t
   }
 }
 
-template void split_bands<float>(const BandBasis<float>&, const float*, size_t, size_t, float*,
-                                 size_t, float*, size_t, float*, size_t, BandSplitScratch<float>*);
-template void split_bands<double>(const BandBasis<double>&, const double*, size_t, size_t,
-                                  double*, size_t, double*, size_t, double*, size_t,
-                                  BandSplitScratch<double>*);
+template void split_bands<float>(const BandBasis<float>&, const float*, size_t, size_t, float*, size_t,
+                                 float*, size_t, float*, size_t, BandSplitScratch<float>*);
+template void split_bands<double>(const BandBasis<double>&, const double*, size_t, size_t, double*, size_t,
+                                  double*, size_t, double*, size_t, BandSplitScratch<double>*);
 
 }  // namespace pleat

@@ -11,10 +11,10 @@ namespace pleat {
 template <typename Scalar>
 struct BandSplitScratch {
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
-  Matrix scaled;      // N x 3F: positions (times sqrt_degree for random walk)
+  Matrix scaled;        // N x 3F: positions (times sqrt_degree for random walk)
   Matrix coefficients;  // mid_count x 3F: U_m^T scaled
-  Matrix low;         // N x 3F: U_l C_l
-  Matrix mid;         // N x 3F: U_(l..m) C_(l..m)
+  Matrix low;           // N x 3F: U_l C_l
+  Matrix mid;           // N x 3F: U_(l..m) C_(l..m)
 };
 
 // positions: frame f is N x 3 row-major xyz at positions + f * in_stride.

@@ -92,9 +92,9 @@ BandBasis<double> compute_band_basis(const Csr& graph, const BandOptions& option
     pairs = solve_lowest(laplacian, count, basis.solver);
     // Every zero eigenvalue (one per component) stays in the low band.
     basis.low_count = nearest_gap_cut(pairs.values, n, basis.low_requested, components, kMinGap);
-    basis.mid_count = basis.low_count < 0 ? -1
-                                          : nearest_gap_cut(pairs.values, n, basis.mid_requested,
-                                                            basis.low_count, kMinGap);
+    basis.mid_count = basis.low_count < 0
+                          ? -1
+                          : nearest_gap_cut(pairs.values, n, basis.mid_requested, basis.low_count, kMinGap);
     if (basis.mid_count >= 0) break;
     count = std::min(n, count + 2 * margin + count / 4);  // no gap in the margin: see further
   }

@@ -20,10 +20,10 @@ constexpr double kMinGap = 1e-5;
 template <typename Scalar>
 struct BandBasis {
   int32_t vertex_count = 0;
-  int32_t low_count = 0;      // eigenvectors in the low band (after the gap move)
-  int32_t mid_count = 0;      // eigenvectors in low + mid (after the gap move)
-  int32_t low_requested = 0;  // ceil(N * low_fraction)
-  int32_t mid_requested = 0;  // ceil(N * mid_fraction)
+  int32_t low_count = 0;                  // eigenvectors in the low band (after the gap move)
+  int32_t mid_count = 0;                  // eigenvectors in low + mid (after the gap move)
+  int32_t low_requested = 0;              // ceil(N * low_fraction)
+  int32_t mid_requested = 0;              // ceil(N * mid_fraction)
   SolverKind solver = SolverKind::dense;  // the one actually used (never automatic)
   ProjectionForm projection = ProjectionForm::random_walk;
   // lambda[count] - lambda[count - 1]; +infinity when count == N (nothing above).

@@ -13,6 +13,8 @@ SingleThreadedBlas::SingleThreadedBlas() : previous_(openblas_get_num_threads())
   openblas_set_num_threads(1);
 }
 
-SingleThreadedBlas::~SingleThreadedBlas() { openblas_set_num_threads(previous_); }
+SingleThreadedBlas::~SingleThreadedBlas() {
+  openblas_set_num_threads(previous_);
+}
 
 }  // namespace pleat

@@ -8,13 +8,12 @@ namespace pleat {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kSamples = 2048;       // per band when measuring the damping ratio
+constexpr int kSamples = 2048;             // per band when measuring the damping ratio
 constexpr Eigen::Index kColumnBlock = 64;  // columns filtered together
 
 }  // namespace
 
-ChebyshevFilter::ChebyshevFilter(double pass_edge, double stop_edge, double ratio,
-                                 int max_degree)
+ChebyshevFilter::ChebyshevFilter(double pass_edge, double stop_edge, double ratio, int max_degree)
     : pass_edge_(pass_edge), stop_edge_(stop_edge) {
   int degree = 8;
   for (;;) {
@@ -60,15 +59,14 @@ double ChebyshevFilter::measure_ratio() const {
   return pass_min > 0.0 ? stop_max / pass_min : std::numeric_limits<double>::infinity();
 }
 
-void ChebyshevFilter::apply(const Eigen::SparseMatrix<double>& laplacian,
-                            const Eigen::MatrixXd& in, Eigen::MatrixXd* out) const {
+void ChebyshevFilter::apply(const Eigen::SparseMatrix<double>& laplacian, const Eigen::MatrixXd& in,
+                            Eigen::MatrixXd* out) const {
   using RowBlock = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   // Row-major operands turn each sparse product into row axpys over a block
   // of columns: vectorised and cache-resident (several times faster than
   // column-major sparse * dense here).
   const Eigen::SparseMatrix<double, Eigen::RowMajor> shifted =
-      laplacian - Eigen::SparseMatrix<double>(
-                      Eigen::VectorXd::Ones(laplacian.rows()).asDiagonal());
+      laplacian - Eigen::SparseMatrix<double>(Eigen::VectorXd::Ones(laplacian.rows()).asDiagonal());
   out->resize(in.rows(), in.cols());
   // Three-term recurrence T_{j+1}(t) = 2 t T_j(t) - T_{j-1}(t), t = L - I, per block.
   RowBlock previous, current, next, acc;

@@ -7,12 +7,11 @@
 #include "core/error.h"
 
 // LAPACK from OpenBLAS (gfortran ABI: hidden string lengths at the end).
-extern "C" void dsyevr_(const char* jobz, const char* range, const char* uplo, const int* n,
-                        double* a, const int* lda, const double* vl, const double* vu,
-                        const int* il, const int* iu, const double* abstol, int* m, double* w,
-                        double* z, const int* ldz, int* isuppz, double* work, const int* lwork,
-                        int* iwork, const int* liwork, int* info, size_t jobz_len,
-                        size_t range_len, size_t uplo_len);
+extern "C" void dsyevr_(const char* jobz, const char* range, const char* uplo, const int* n, double* a,
+                        const int* lda, const double* vl, const double* vu, const int* il, const int* iu,
+                        const double* abstol, int* m, double* w, double* z, const int* ldz, int* isuppz,
+                        double* work, const int* lwork, int* iwork, const int* liwork, int* info,
+                        size_t jobz_len, size_t range_len, size_t uplo_len);
 
 namespace pleat {
 
@@ -28,9 +27,8 @@ EigenPairs solve_dense(const Eigen::SparseMatrix<double>& matrix, int count) {
   int found = 0, info = 0, lwork = -1, liwork = -1, iwork_query = 0;
   double work_query = 0.0;
   auto call = [&](double* work, int* iwork) {
-    dsyevr_("V", "I", "L", &n, a.data(), &n, &unused, &unused, &il, &iu, &abstol, &found,
-            pairs.values.data(), pairs.vectors.data(), &n, isuppz.data(), work, &lwork, iwork,
-            &liwork, &info, 1, 1, 1);
+    dsyevr_("V", "I", "L", &n, a.data(), &n, &unused, &unused, &il, &iu, &abstol, &found, pairs.values.data(),
+            pairs.vectors.data(), &n, isuppz.data(), work, &lwork, iwork, &liwork, &info, 1, 1, 1);
   };
   call(&work_query, &iwork_query);
   lwork = static_cast<int>(work_query);
@@ -39,9 +37,8 @@ EigenPairs solve_dense(const Eigen::SparseMatrix<double>& matrix, int count) {
   std::vector<int> iwork(static_cast<size_t>(liwork));
   call(work.data(), iwork.data());
   if (info != 0 || found != count)
-    fail(PLEAT_ERROR_NUMERICAL, "dense eigensolver (dsyevr) failed: info " + std::to_string(info) +
-                                    ", " + std::to_string(found) + " of " +
-                                    std::to_string(count) + " eigenpairs");
+    fail(PLEAT_ERROR_NUMERICAL, "dense eigensolver (dsyevr) failed: info " + std::to_string(info) + ", " +
+                                    std::to_string(found) + " of " + std::to_string(count) + " eigenpairs");
   pairs.values.conservativeResize(count);
   return pairs;
 }

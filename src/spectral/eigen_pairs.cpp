@@ -18,9 +18,8 @@ void sort_pairs(EigenPairs* pairs) {
   const Eigen::Index n = pairs->values.size();
   std::vector<Eigen::Index> order(static_cast<size_t>(n));
   std::iota(order.begin(), order.end(), Eigen::Index{0});
-  std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
-    return pairs->values[a] < pairs->values[b];
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return pairs->values[a] < pairs->values[b]; });
   EigenPairs sorted;
   sorted.values.resize(n);
   sorted.vectors.resize(pairs->vectors.rows(), n);

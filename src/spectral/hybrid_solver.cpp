@@ -41,8 +41,8 @@ void deflate(const Eigen::MatrixXd& window, Eigen::MatrixXd* v) {
 
 // The `count` lowest eigenpairs, all below pass_edge, orthogonal to `window`
 // (which spans every eigenvector in [pass_edge, stop_edge)).
-EigenPairs filtered_subspace(const Eigen::SparseMatrix<double>& laplacian, int count,
-                             double pass_edge, double stop_edge, const Eigen::MatrixXd& window) {
+EigenPairs filtered_subspace(const Eigen::SparseMatrix<double>& laplacian, int count, double pass_edge,
+                             double stop_edge, const Eigen::MatrixXd& window) {
   const ChebyshevFilter filter(pass_edge, stop_edge, kFilterRatio, kMaxFilterDegree);
   std::mt19937 rng(2024);
   std::normal_distribution<double> normal;
@@ -60,10 +60,8 @@ EigenPairs filtered_subspace(const Eigen::SparseMatrix<double>& laplacian, int c
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ritz(h);
     pairs.values = ritz.eigenvalues();
     pairs.vectors = filtered * ritz.eigenvectors();
-    residual = (lv * ritz.eigenvectors() - pairs.vectors * pairs.values.asDiagonal())
-                   .colwise()
-                   .norm()
-                   .maxCoeff();
+    residual =
+        (lv * ritz.eigenvectors() - pairs.vectors * pairs.values.asDiagonal()).colwise().norm().maxCoeff();
     if (residual <= kResidualTolerance) {
       if (pairs.values.maxCoeff() >= pass_edge)
         fail(PLEAT_ERROR_NUMERICAL, "hybrid eigensolver: filtered iteration converged above the window");

@@ -14,9 +14,9 @@ ShiftedLdlt::ShiftedLdlt(const Eigen::SparseMatrix<double>& matrix)
     : upper_(matrix.triangularView<Eigen::Upper>()) {
   upper_.makeCompressed();
   cholmod_start(&common_);
-  common_.print = 0;                          // failures become pleat::Error, not stderr
-  common_.supernodal = CHOLMOD_SIMPLICIAL;    // simplicial keeps D explicit for inertia
-  common_.final_ll = false;                   // LDL^T: indefinite shifts are allowed
+  common_.print = 0;                        // failures become pleat::Error, not stderr
+  common_.supernodal = CHOLMOD_SIMPLICIAL;  // simplicial keeps D explicit for inertia
+  common_.final_ll = false;                 // LDL^T: indefinite shifts are allowed
   std::memset(&a_, 0, sizeof(a_));
   a_.nrow = a_.ncol = static_cast<size_t>(upper_.rows());
   a_.nzmax = static_cast<size_t>(upper_.nonZeros());
@@ -31,8 +31,7 @@ ShiftedLdlt::ShiftedLdlt(const Eigen::SparseMatrix<double>& matrix)
   a_.packed = 1;
   factor_ = cholmod_analyze(&a_, &common_);
   if (factor_ == nullptr)
-    fail(PLEAT_ERROR_NUMERICAL, "CHOLMOD analysis failed (status " +
-                                    std::to_string(common_.status) + ")");
+    fail(PLEAT_ERROR_NUMERICAL, "CHOLMOD analysis failed (status " + std::to_string(common_.status) + ")");
 }
 
 ShiftedLdlt::~ShiftedLdlt() {
@@ -49,9 +48,8 @@ void ShiftedLdlt::factorize(double sigma) {
   factorized_ = cholmod_factorize_p(&a_, beta, nullptr, 0, factor_, &common_) &&
                 common_.status >= CHOLMOD_OK && !factor_->is_ll && !factor_->is_super;
   if (!factorized_ && common_.status != CHOLMOD_NOT_POSDEF)
-    fail(PLEAT_ERROR_NUMERICAL, "CHOLMOD LDL^T of L - sigma I failed at sigma = " +
-                                    std::to_string(sigma) + " (status " +
-                                    std::to_string(common_.status) + ")");
+    fail(PLEAT_ERROR_NUMERICAL, "CHOLMOD LDL^T of L - sigma I failed at sigma = " + std::to_string(sigma) +
+                                    " (status " + std::to_string(common_.status) + ")");
 }
 
 int ShiftedLdlt::negative_pivots() const {

@@ -4,9 +4,10 @@
 
 namespace pleat {
 
-SlicePlanner::SlicePlanner(const Eigen::SparseMatrix<double>& laplacian, int count,
-                           int slice_size)
-    : counter_(laplacian), count_(count), slice_size_(slice_size),
+SlicePlanner::SlicePlanner(const Eigen::SparseMatrix<double>& laplacian, int count, int slice_size)
+    : counter_(laplacian),
+      count_(count),
+      slice_size_(slice_size),
       lo_(counter_.count_below(kShiftBelowSpectrum)) {}
 
 std::optional<SliceBounds> SlicePlanner::next() {

@@ -13,7 +13,9 @@ namespace {
 
 constexpr int kMaxWorkers = 8;
 
-std::string slice_label(size_t index) { return "slice " + std::to_string(index); }
+std::string slice_label(size_t index) {
+  return "slice " + std::to_string(index);
+}
 
 // Slices placed but not yet taken by a worker; results land at their index.
 class SliceQueue {
@@ -102,8 +104,7 @@ int default_slice_workers() {
   return std::clamp(static_cast<int>(hardware), 1, kMaxWorkers);
 }
 
-SolvedSlices solve_slices(const Eigen::SparseMatrix<double>& laplacian, SlicePlanner* planner,
-                          int workers) {
+SolvedSlices solve_slices(const Eigen::SparseMatrix<double>& laplacian, SlicePlanner* planner, int workers) {
   SliceQueue queue;
   if (workers <= 1) {
     // Same steps on the calling thread: place, then solve, slice by slice.

@@ -22,7 +22,6 @@ int default_slice_workers();
 // Results do not depend on `workers` (>= 1): boundaries come from the planner
 // alone, every slice starts Lanczos from the same seed, and slices are kept in
 // slice order. The first failing slice's error is rethrown.
-SolvedSlices solve_slices(const Eigen::SparseMatrix<double>& laplacian, SlicePlanner* planner,
-                          int workers);
+SolvedSlices solve_slices(const Eigen::SparseMatrix<double>& laplacian, SlicePlanner* planner, int workers);
 
 }  // namespace pleat

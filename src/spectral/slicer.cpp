@@ -63,8 +63,7 @@ std::string interval_text(const Shift& lo, const Shift& hi) {
 
 }  // namespace
 
-Slicer::Slicer(const Eigen::SparseMatrix<double>& laplacian)
-    : laplacian_(laplacian), ldlt_(laplacian) {}
+Slicer::Slicer(const Eigen::SparseMatrix<double>& laplacian) : laplacian_(laplacian), ldlt_(laplacian) {}
 
 Shift Slicer::count_below(double sigma) {
   double shifted = sigma;
@@ -74,8 +73,8 @@ Shift Slicer::count_below(double sigma) {
     // Alternate sides with growing steps: +1, -2, +3, ... times the jitter.
     shifted = sigma + kShiftJitter * (attempt + 1) * (attempt % 2 == 0 ? 1.0 : -1.0);
   }
-  fail(PLEAT_ERROR_NUMERICAL, "LDL^T of L - sigma I has a zero pivot at every shift near sigma = " +
-                                  std::to_string(sigma));
+  fail(PLEAT_ERROR_NUMERICAL,
+       "LDL^T of L - sigma I has a zero pivot at every shift near sigma = " + std::to_string(sigma));
 }
 
 Shift Slicer::place_boundary(Shift lo, Shift hi, int target, int slack, double guess) {
@@ -112,8 +111,8 @@ Shift Slicer::place_boundary(Shift lo, Shift hi, int target, int slack, double g
       hi_is_local = true;
     }
   }
-  fail(PLEAT_ERROR_NUMERICAL, "could not place a slice boundary with " + std::to_string(target) +
-                                  " eigenvalues below it");
+  fail(PLEAT_ERROR_NUMERICAL,
+       "could not place a slice boundary with " + std::to_string(target) + " eigenvalues below it");
 }
 
 EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::string& label) {
@@ -130,8 +129,7 @@ EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::s
   std::mt19937 rng(12345);
   std::normal_distribution<double> normal;
   DeflatedShiftInvert op(ldlt_, deflate);
-  for (int round = 0; round < kMaxSliceRounds && static_cast<int>(values.size()) < expected;
-       ++round) {
+  for (int round = 0; round < kMaxSliceRounds && static_cast<int>(values.size()) < expected; ++round) {
     const int missing = expected - static_cast<int>(values.size());
     const int available = n - static_cast<int>(deflate.cols());
     const int nev = std::min(missing + std::max(kMinExtraPairs, missing / 4), available - 1);
@@ -149,9 +147,7 @@ EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::s
     const Eigen::VectorXd found_values = eigs.eigenvalues();
     const Eigen::MatrixXd found_vectors = eigs.eigenvectors();
     const Eigen::VectorXd residuals =
-        (laplacian_ * found_vectors - found_vectors * found_values.asDiagonal())
-            .colwise()
-            .norm();
+        (laplacian_ * found_vectors - found_vectors * found_values.asDiagonal()).colwise().norm();
     std::vector<Eigen::Index> accepted;  // inaccurate pairs are left for the next round
     for (Eigen::Index j = 0; j < found_values.size(); ++j) {
       if (!(residuals[j] <= kResidualTolerance)) continue;
@@ -168,8 +164,8 @@ EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::s
       deflate.col(old_cols + static_cast<Eigen::Index>(j)) = found_vectors.col(accepted[j]);
   }
   if (static_cast<int>(values.size()) != expected)
-    fail(PLEAT_ERROR_NUMERICAL, "slicing eigensolver: " + label + " " + interval_text(lo, hi) +
-                                    " (shift " + std::to_string(centre.sigma) + ") found " +
+    fail(PLEAT_ERROR_NUMERICAL, "slicing eigensolver: " + label + " " + interval_text(lo, hi) + " (shift " +
+                                    std::to_string(centre.sigma) + ") found " +
                                     std::to_string(values.size()) + " eigenpairs, inertia says " +
                                     std::to_string(expected));
   inside.values = Eigen::Map<const Eigen::VectorXd>(values.data(), expected);
@@ -179,8 +175,7 @@ EigenPairs Slicer::solve_interval(const Shift& lo, const Shift& hi, const std::s
   return inside;
 }
 
-EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian,
-                        const std::vector<EigenPairs>& slices,
+EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian, const std::vector<EigenPairs>& slices,
                         const std::vector<double>& boundaries) {
   Eigen::Index total = 0;
   for (const EigenPairs& s : slices) total += s.values.size();
@@ -201,8 +196,7 @@ EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian,
     while (first < total && all.values[first] < boundary - kBoundaryWindow) ++first;
     Eigen::Index last = first;
     while (last < total && all.values[last] < boundary + kBoundaryWindow) ++last;
-    const bool straddles = first < last && all.values[first] < boundary &&
-                           all.values[last - 1] >= boundary;
+    const bool straddles = first < last && all.values[first] < boundary && all.values[last - 1] >= boundary;
     if (!straddles) continue;
     const EigenPairs repaired = rayleigh_ritz(laplacian, all.vectors.middleCols(first, last - first));
     all.values.segment(first, last - first) = repaired.values;

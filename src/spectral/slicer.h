@@ -51,8 +51,7 @@ class Slicer {
 // each boundary: vectors from two shifts are orthogonal only to about
 // residual / (eigenvalue distance), so the pairs within kBoundaryWindow of a
 // boundary get a joint Rayleigh-Ritz.
-EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian,
-                        const std::vector<EigenPairs>& slices,
+EigenPairs merge_slices(const Eigen::SparseMatrix<double>& laplacian, const std::vector<EigenPairs>& slices,
                         const std::vector<double>& boundaries);
 
 // Keeps the first `count` pairs.

@@ -5,8 +5,7 @@
 
 #include "capi/pleat.h"
 
-#define PIN(type, field, offset) \
-  _Static_assert(offsetof(type, field) == (offset), #type "." #field " moved")
+#define PIN(type, field, offset) _Static_assert(offsetof(type, field) == (offset), #type "." #field " moved")
 #define SIZE(type, size) _Static_assert(sizeof(type) == (size), #type " changed size")
 
 PIN(pleat_api, struct_size, 0);

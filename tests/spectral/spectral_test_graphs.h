@@ -14,8 +14,7 @@ inline pleat::Csr graph_of(const pleat_test::SimpleMesh& mesh, int isolated = 0)
   for (size_t i = 0; i < mesh.triangles.size(); ++i)
     t(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) =
         static_cast<int32_t>(mesh.triangles[i]);
-  return pleat::edge_graph(pleat::unique_edges(t),
-                           static_cast<int32_t>(mesh.vertex_count()) + isolated);
+  return pleat::edge_graph(pleat::unique_edges(t), static_cast<int32_t>(mesh.vertex_count()) + isolated);
 }
 
 // Positions as doubles, `isolated` extra vertices placed off the mesh.
