@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/bvh.h"
+#include "support/expect_error.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -30,17 +31,7 @@ std::string slurp(const std::string& path) {
   return s.str();
 }
 
-// Runs f, expects a pleat::Error with `status` whose message contains `needle`.
-template <typename F>
-void expect_error(F f, pleat_status status, const std::string& needle) {
-  try {
-    f();
-    ADD_FAILURE() << "no error, expected one containing '" << needle << "'";
-  } catch (const pleat::Error& e) {
-    EXPECT_EQ(e.status(), status) << e.what();
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+using pleat_test::expect_error;
 
 Eigen::Matrix3d rot(char axis, double degrees) {
   const Eigen::Vector3d a = axis == 'X'   ? Eigen::Vector3d::UnitX()

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "nn/graph_attention.h"
+#include "support/expect_error.h"
 
 using namespace pleat;
 using namespace pleat::nn;
@@ -391,16 +392,7 @@ TEST(NnGraphAttention, WorkspaceIsReusedAcrossLayersAndCalls) {
 }
 
 namespace {
-void expect_error(const std::function<void()>& f, const std::vector<std::string>& fragments) {
-  try {
-    f();
-    FAIL() << "expected pleat::Error";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.status(), PLEAT_ERROR_INVALID_ARGUMENT);
-    for (const auto& s : fragments)
-      EXPECT_NE(std::string(e.what()).find(s), std::string::npos) << "'" << s << "' not in: " << e.what();
-  }
-}
+using pleat_test::expect_error_all;
 }  // namespace
 
 TEST(NnGraphAttention, ShapeErrorsNameTheTensor) {
@@ -411,28 +403,31 @@ TEST(NnGraphAttention, ShapeErrorsNameTheTensor) {
   GraphAttentionWorkspace ws;
   ws.reserve(layer, graph);
   MatrixRM out(6, 6);
-  expect_error([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 5), out, ws); },
-               {"test_layer", "input V is 6x5", "expected 6x4"});
-  expect_error([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(5, 4), out, ws); },
-               {"input V is 5x4", "expected 6x4"});
+  expect_error_all([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 5), out, ws); },
+                   PLEAT_ERROR_INVALID_ARGUMENT, {"test_layer", "input V is 6x5", "expected 6x4"});
+  expect_error_all([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(5, 4), out, ws); },
+                   PLEAT_ERROR_INVALID_ARGUMENT, {"input V is 5x4", "expected 6x4"});
   MatrixRM bad_out(6, 3);
-  expect_error([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 4), bad_out, ws); },
-               {"output is 6x3", "expected 6x6"});
+  expect_error_all([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 4), bad_out, ws); },
+                   PLEAT_ERROR_INVALID_ARGUMENT, {"output is 6x3", "expected 6x6"});
   GraphAttentionWorkspace empty;
-  expect_error([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 4), out, empty); },
-               {"GraphAttentionWorkspace", "reserve()"});
+  expect_error_all([&] { graph_attention_forward(layer, graph, MatrixRM::Zero(6, 4), out, empty); },
+                   PLEAT_ERROR_INVALID_ARGUMENT, {"GraphAttentionWorkspace", "reserve()"});
   GraphAttentionLayer bad = layer;
   bad.attention = MatrixRM::Zero(2, 5);
-  expect_error([&] { bad.prepare(); }, {"test_layer", "attention is 2x5", "expected 2x6"});
+  expect_error_all([&] { bad.prepare(); }, PLEAT_ERROR_INVALID_ARGUMENT,
+                   {"test_layer", "attention is 2x5", "expected 2x6"});
   bad = layer;
   bad.q = RowVector::Zero(3);
-  expect_error([&] { bad.prepare(); }, {"q (flexigat) is 1x3", "expected 1x2"});
+  expect_error_all([&] { bad.prepare(); }, PLEAT_ERROR_INVALID_ARGUMENT,
+                   {"q (flexigat) is 1x3", "expected 1x2"});
   bad = layer;
   bad.weight = MatrixRM::Zero(4, 7);
-  expect_error([&] { bad.prepare(); }, {"7 columns", "2 heads"});
+  expect_error_all([&] { bad.prepare(); }, PLEAT_ERROR_INVALID_ARGUMENT, {"7 columns", "2 heads"});
   bad = layer;
   bad.weight = MatrixRM::Zero(5, 6);  // changed without prepare()
-  expect_error([&] { graph_attention_forward(bad, graph, MatrixRM::Zero(6, 5), out, ws); }, {"prepare()"});
+  expect_error_all([&] { graph_attention_forward(bad, graph, MatrixRM::Zero(6, 5), out, ws); },
+                   PLEAT_ERROR_INVALID_ARGUMENT, {"prepare()"});
 }
 
 TEST(NnThreadPool, RunsEveryTaskOnceAcrossManyRuns) {

@@ -11,6 +11,7 @@
 #include "body/motion_ops.h"
 #include "core/error.h"
 #include "io/bvh.h"
+#include "support/expect_error.h"
 #include "support/test_support.h"
 
 namespace fs = std::filesystem;
@@ -30,16 +31,7 @@ Motion walk_fixture() {
   return pleat::read_bvh(pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh").motion;
 }
 
-template <typename F>
-void expect_error(F f, pleat_status status, const std::string& needle) {
-  try {
-    f();
-    ADD_FAILURE() << "no error, expected one containing '" << needle << "'";
-  } catch (const pleat::Error& e) {
-    EXPECT_EQ(e.status(), status) << e.what();
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+using pleat_test::expect_error;
 
 double angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return a.angularDistance(b);

@@ -12,16 +12,7 @@ using pleat::SkinWeights;
 
 namespace {
 
-template <typename F>
-void expect_error(F f, pleat_status status, const std::string& needle) {
-  try {
-    f();
-    ADD_FAILURE() << "no error, expected one containing '" << needle << "'";
-  } catch (const pleat::Error& e) {
-    EXPECT_EQ(e.status(), status) << e.what();
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+using pleat_test::expect_error;
 
 // Root at the origin, "tip" 1 m along +X.
 pleat::Skeleton two_joint_chain() {

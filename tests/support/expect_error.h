@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -19,6 +20,20 @@ inline void expect_error(const std::function<void()>& fn, pleat_status status, c
     EXPECT_EQ(e.status(), status) << e.what();
     EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
         << "'" << e.what() << "' lacks '" << part << "'";
+  }
+}
+
+// Like expect_error, with several message fragments, all of which must appear.
+inline void expect_error_all(const std::function<void()>& fn, pleat_status status,
+                             const std::vector<std::string>& parts) {
+  try {
+    fn();
+    ADD_FAILURE() << "no error; expected status " << status;
+  } catch (const pleat::Error& e) {
+    EXPECT_EQ(e.status(), status) << e.what();
+    for (const auto& part : parts)
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
+          << "'" << e.what() << "' lacks '" << part << "'";
   }
 }
 
