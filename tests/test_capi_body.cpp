@@ -150,3 +150,102 @@ TEST(CapiBody, BadInputIsNamed) {
             PLEAT_ERROR_INVALID_ARGUMENT)
       << "a motion on another skeleton must be retargeted first";
 }
+
+namespace {
+
+// A two-joint chain along +X: root at the origin, elbow at (1, 0, 0). Vertex 0
+// follows the root, vertex 1 the elbow, vertex 2 is split half and half.
+struct ChainArrays {
+  const char* names[2] = {"root", "elbow"};
+  int32_t parents[2] = {-1, 0};
+  float joints[6] = {0, 0, 0, 1, 0, 0};
+  float positions[9] = {0.5f, 0, 0, 2, 0, 0, 1, 0.5f, 0};
+  uint32_t triangles[3] = {0, 1, 2};
+  uint32_t weight_joints[6] = {0, 1, 1, 0, 0, 1};
+  float weights[6] = {1, 0, 1, 0, 0.5f, 0.5f};
+  pleat_body_desc desc() {
+    pleat_body_desc d{};
+    d.struct_size = sizeof d;
+    d.joint_count = 2;
+    d.joint_names = names;
+    d.parents = parents;
+    d.joint_positions = joints;
+    d.vertex_count = 3;
+    d.positions = positions;
+    d.triangle_count = 1;
+    d.triangles = triangles;
+    d.influences = 2;
+    d.weight_joints = weight_joints;
+    d.weights = weights;
+    return d;
+  }
+};
+
+}  // namespace
+
+TEST(CapiBody, ArraysBodyPosesAsComputedByHand) {
+  ChainArrays a;
+  const pleat_body_desc d = a.desc();
+  pleat_body* b = nullptr;
+  ASSERT_EQ(pleat_body_create(&d, &b), PLEAT_OK) << pleat_last_error();
+  BodyPtr body(b, pleat_body_destroy);
+  EXPECT_EQ(info_of(body.get()).shape_count, 0u);
+  EXPECT_EQ(pleat_body_set_shape(body.get(), nullptr, 0), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("fixed shape"), std::string::npos);
+
+  // Frame 0: rest pose at the rest root. Frame 1: elbow bent 90 degrees about
+  // +Z, root moved to (0, 0, 2).
+  const float s = std::sqrt(0.5f);
+  const float rotations[16] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, s, s};
+  const float roots[6] = {0, 0, 0, 0, 0, 2};
+  std::vector<float> out(2 * 9);
+  ASSERT_EQ(pleat_body_pose(body.get(), rotations, roots, 2, {out.data(), 0}), PLEAT_OK)
+      << pleat_last_error();
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(out[i], a.positions[i], 1e-6f) << i;
+  // Vertex 1 at (2,0,0) turns about the elbow (1,0,0) to (1,1,0), then +2 in z.
+  const float expected[9] = {0.5f, 0, 2, 1, 1, 2,
+                             // vertex 2 (1, 0.5): root copy (1, 0.5), elbow copy (0.5, 0), halved
+                             0.75f, 0.25f, 2};
+  for (int i = 0; i < 9; ++i) EXPECT_NEAR(out[9 + i], expected[i], 1e-6f) << i;
+
+  const float bad[16] = {0, 0, 0, 1, 0, 0, 0, 2, 0, 0, 0, 1, 0, 0, s, s};
+  std::vector<float> untouched(18, -7.0f);
+  EXPECT_EQ(pleat_body_pose(body.get(), bad, roots, 2, {untouched.data(), 0}), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("frame 0 joint 1 'elbow'"), std::string::npos)
+      << pleat_last_error();
+  EXPECT_EQ(untouched[0], -7.0f);
+}
+
+TEST(CapiBody, ArraysBodyRefusesBadSkeletonsAndWeights) {
+  pleat_body* b = nullptr;
+  {
+    ChainArrays a;
+    a.weights[4] = 0.7f;  // vertex 2 sums to 1.2
+    const pleat_body_desc d = a.desc();
+    EXPECT_EQ(pleat_body_create(&d, &b), PLEAT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pleat_last_error()).find("vertex 2"), std::string::npos) << pleat_last_error();
+  }
+  {
+    ChainArrays a;
+    a.parents[1] = 1;  // its own parent: a cycle
+    const pleat_body_desc d = a.desc();
+    EXPECT_EQ(pleat_body_create(&d, &b), PLEAT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pleat_last_error()).find("'elbow'"), std::string::npos) << pleat_last_error();
+  }
+  {
+    ChainArrays a;
+    a.names[1] = "root";
+    const pleat_body_desc d = a.desc();
+    EXPECT_EQ(pleat_body_create(&d, &b), PLEAT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pleat_last_error()).find("named twice"), std::string::npos) << pleat_last_error();
+  }
+  {
+    ChainArrays a;
+    a.weight_joints[3] = 5;
+    const pleat_body_desc d = a.desc();
+    EXPECT_EQ(pleat_body_create(&d, &b), PLEAT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pleat_last_error()).find("weight_joints[3]"), std::string::npos)
+        << pleat_last_error();
+  }
+  EXPECT_EQ(b, nullptr);
+}

@@ -222,6 +222,26 @@ typedef struct pleat_body_info {
   uint32_t max_influences; /* most joints weighting one vertex */
 } pleat_body_info;
 
+/* A body from caller arrays (pleat_body_create). Joints are given parents
+   first with their rest positions (global, metres); the rest pose has no
+   joint rotation. Each vertex lists `influences` (joint, weight) pairs; zero
+   weights are ignored and each vertex's weights must sum to 1. */
+typedef struct pleat_body_desc {
+  uint32_t struct_size;
+  uint32_t joint_count;
+  const char* const* joint_names; /* joint_count names, unique */
+  const int32_t* parents;         /* joint_count; -1 for the first (root) only */
+  const float* joint_positions;   /* joint_count xyz */
+  size_t vertex_count;
+  const float* positions; /* vertex_count xyz */
+  size_t triangle_count;
+  const uint32_t* triangles; /* triangle_count index triples */
+  uint32_t influences;       /* (joint, weight) pairs per vertex */
+  uint32_t reserved;
+  const uint32_t* weight_joints; /* vertex_count * influences */
+  const float* weights;          /* vertex_count * influences */
+} pleat_body_desc;
+
 typedef struct pleat_motion_load_options {
   uint32_t struct_size;
   uint32_t clip;     /* animation index in an FBX/glTF file; 0 = the first */
@@ -340,6 +360,9 @@ PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format, c
 PLEAT_EXPORT pleat_status pleat_body_load(const char* path, const pleat_body_load_options* options,
                                           pleat_body** out_body);
 
+/* A fixed-shape body from caller arrays (see pleat_body_desc). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_body_create(const pleat_body_desc* desc, pleat_body** out_body);
+
 /* NULL is accepted. Not thread-safe with other calls on the same body. */
 PLEAT_EXPORT void pleat_body_destroy(pleat_body* body);
 
@@ -371,6 +394,13 @@ PLEAT_EXPORT pleat_status pleat_body_get_rest(const pleat_body* body, float* pos
    Thread-safe on a shared body and motion. */
 PLEAT_EXPORT pleat_status pleat_body_pose_motion(const pleat_body* body, const pleat_motion* motion,
                                                  size_t first_frame, size_t frame_count, pleat_frames out);
+
+/* Skinned body vertices for poses given as arrays: frame_count * joint_count
+   unit quaternions (x, y, z, w), each relative to the joint's rest
+   orientation, and frame_count root positions (xyz, metres). Thread-safe on
+   a shared body. */
+PLEAT_EXPORT pleat_status pleat_body_pose(const pleat_body* body, const float* rotations,
+                                          const float* root_positions, size_t frame_count, pleat_frames out);
 
 /* ---- Motions ------------------------------------------------------------- */
 
@@ -458,6 +488,8 @@ typedef struct pleat_api {
   pleat_status (*motion_retarget)(const pleat_motion*, const pleat_body*, const char*, pleat_motion**);
   pleat_status (*motion_get_frames)(const pleat_motion*, size_t, size_t, float*, size_t, float*, size_t);
   pleat_status (*mesh_write_obj)(const char*, const float*, size_t, const uint32_t*, size_t);
+  pleat_status (*body_create)(const pleat_body_desc*, pleat_body**);
+  pleat_status (*body_pose)(const pleat_body*, const float*, const float*, size_t, pleat_frames);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer

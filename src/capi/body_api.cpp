@@ -1,5 +1,7 @@
 // C entry points for bodies: the MakeHuman model, SMPL-layout files and
 // rigged characters; reshaping and posing.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "body/makehuman.h"
@@ -51,9 +53,111 @@ void check_capacity(const T* out, size_t capacity, size_t needed, const char* na
                                            " is below the " + std::to_string(needed) + " needed");
 }
 
+Body body_from_desc(const pleat_body_desc& d) {
+  require(d.joint_count > 0, "'pleat_body_desc.joint_count' is 0");
+  for (const void* field : {static_cast<const void*>(d.joint_names), static_cast<const void*>(d.parents),
+                            static_cast<const void*>(d.joint_positions),
+                            static_cast<const void*>(d.positions), static_cast<const void*>(d.triangles),
+                            static_cast<const void*>(d.weight_joints), static_cast<const void*>(d.weights)})
+    require(field != nullptr, "a pointer field of pleat_body_desc is NULL");
+  require(d.influences > 0, "'pleat_body_desc.influences' is 0");
+  require(d.vertex_count < (size_t{1} << 30) && d.triangle_count < (size_t{1} << 30),
+          "'pleat_body_desc' vertex_count or triangle_count exceeds 2^30");
+  Body b;
+  b.source = "caller arrays";
+  const auto joints = static_cast<Eigen::Index>(d.joint_count);
+  Skeleton& s = b.skeleton;
+  const Points3d global = Eigen::Map<const Points3f>(d.joint_positions, joints, 3).cast<double>();
+  s.rest_translation.resize(joints, 3);
+  for (Eigen::Index j = 0; j < joints; ++j) {
+    require(d.joint_names[j] != nullptr, "'pleat_body_desc.joint_names[" + std::to_string(j) + "]' is NULL");
+    s.names.emplace_back(d.joint_names[j]);
+    s.parents.push_back(d.parents[j]);
+    s.rest_rotation.push_back(Eigen::Quaterniond::Identity());
+    const bool valid_parent = d.parents[j] >= 0 && d.parents[j] < j;
+    s.rest_translation.row(j) = valid_parent ? Eigen::RowVector3d(global.row(j) - global.row(d.parents[j]))
+                                             : Eigen::RowVector3d(global.row(j));
+  }
+  validate_skeleton(s, b.source);
+  const auto n = static_cast<Eigen::Index>(d.vertex_count);
+  b.rest.vertices = Eigen::Map<const Points3f>(d.positions, n, 3).cast<double>();
+  b.rest.triangles.resize(static_cast<Eigen::Index>(d.triangle_count), 3);
+  for (size_t i = 0; i < d.triangle_count * 3; ++i) {
+    require(d.triangles[i] < d.vertex_count, "'pleat_body_desc.triangles[" + std::to_string(i) +
+                                                 "]' = " + std::to_string(d.triangles[i]) +
+                                                 " is not below vertex_count");
+    b.rest.triangles.data()[i] = static_cast<int32_t>(d.triangles[i]);
+  }
+  SkinWeights& w = b.weights;
+  w.joint_count = static_cast<int32_t>(d.joint_count);
+  for (size_t v = 0; v < d.vertex_count; ++v) {
+    std::vector<std::pair<int32_t, double>> pairs;
+    for (size_t k = 0; k < d.influences; ++k) {
+      const size_t at = v * d.influences + k;
+      require(d.weight_joints[at] < d.joint_count, "'pleat_body_desc.weight_joints[" + std::to_string(at) +
+                                                       "]' = " + std::to_string(d.weight_joints[at]) +
+                                                       " is not below joint_count");
+      if (d.weights[at] != 0.0f) pairs.emplace_back(static_cast<int32_t>(d.weight_joints[at]), d.weights[at]);
+    }
+    std::sort(pairs.begin(), pairs.end());
+    for (const auto& [joint, weight] : pairs) {
+      require(w.joints.size() == static_cast<size_t>(w.offsets.back()) || w.joints.back() != joint,
+              "vertex " + std::to_string(v) + " names joint " + std::to_string(joint) + " twice");
+      w.joints.push_back(joint);
+      w.weights.push_back(weight);
+    }
+    w.offsets.push_back(static_cast<int32_t>(w.joints.size()));
+  }
+  validate_body(b, b.source);
+  return b;
+}
+
 }  // namespace
 
 extern "C" {
+
+pleat_status pleat_body_create(const pleat_body_desc* desc, pleat_body** out_body) {
+  return guarded(__func__, [&] {
+    require_not_null(desc, "desc");
+    require_not_null(out_body, "out_body");
+    *out_body = new pleat_body{body_from_desc(read_options(desc, "pleat_body_desc")), {}};
+  });
+}
+
+pleat_status pleat_body_pose(const pleat_body* body, const float* rotations, const float* root_positions,
+                             size_t frame_count, pleat_frames out) {
+  return guarded(__func__, [&] {
+    require_not_null(body, "body");
+    require_not_null(rotations, "rotations");
+    require_not_null(root_positions, "root_positions");
+    require_not_null(out.data, "out.data");
+    const Body& b = body->body;
+    const auto joints = static_cast<size_t>(b.joint_count()), n = static_cast<size_t>(b.vertex_count());
+    const size_t stride = resolved_stride(out.frame_stride, n, "out");
+    // Check every frame before writing any, so a failure leaves `out` untouched.
+    Quaternions pose(frame_count * joints);
+    for (size_t f = 0; f < frame_count; ++f) {
+      for (size_t j = 0; j < joints; ++j) {
+        const float* q = rotations + (f * joints + j) * 4;
+        const Eigen::Quaterniond r(q[3], q[0], q[1], q[2]);
+        require(r.coeffs().allFinite() && std::abs(r.norm() - 1.0) < 1e-3,
+                "rotation of frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" +
+                    b.skeleton.names[j] + "' is not a finite unit quaternion");
+        pose[f * joints + j] = r.normalized();
+      }
+      for (int c = 0; c < 3; ++c)
+        require(std::isfinite(root_positions[f * 3 + c]),
+                "root position of frame " + std::to_string(f) + " is not finite");
+    }
+    BodyWorkspace workspace;
+    Points3d posed;
+    for (size_t f = 0; f < frame_count; ++f) {
+      const Eigen::Vector3d root = Eigen::Map<const Eigen::Vector3f>(root_positions + f * 3).cast<double>();
+      pose_body(b, pose.data() + f * joints, root, &posed, &workspace);
+      Eigen::Map<Points3f>(out.data + f * stride, static_cast<Eigen::Index>(n), 3) = posed.cast<float>();
+    }
+  });
+}
 
 pleat_status pleat_body_load(const char* path, const pleat_body_load_options* options,
                              pleat_body** out_body) {

@@ -50,7 +50,8 @@ const pleat_api* pleat_get_api(uint32_t version) {
       pleat_body_set_shape,    pleat_body_get_rest,       pleat_body_pose_motion,
       pleat_motion_load,       pleat_motion_destroy,      pleat_motion_get_info,
       pleat_motion_joint_name, pleat_motion_resample,     pleat_motion_retarget,
-      pleat_motion_get_frames, pleat_mesh_write_obj,
+      pleat_motion_get_frames, pleat_mesh_write_obj,      pleat_body_create,
+      pleat_body_pose,
   };
   // Every version up to the current one is served by the same, grown table:
   // older callers only read its prefix.

@@ -43,7 +43,9 @@ PIN(pleat_api, motion_resample, 240);
 PIN(pleat_api, motion_retarget, 248);
 PIN(pleat_api, motion_get_frames, 256);
 PIN(pleat_api, mesh_write_obj, 264);
-SIZE(pleat_api, 272);
+PIN(pleat_api, body_create, 272);
+PIN(pleat_api, body_pose, 280);
+SIZE(pleat_api, 288);
 
 PIN(pleat_const_frames, data, 0);
 PIN(pleat_const_frames, frame_stride, 8);
@@ -146,3 +148,17 @@ PIN(pleat_motion_info, frame_count, 8);
 PIN(pleat_motion_info, frame_rate, 16);
 PIN(pleat_motion_info, unit_scale, 24);
 SIZE(pleat_motion_info, 32);
+
+PIN(pleat_body_desc, struct_size, 0);
+PIN(pleat_body_desc, joint_count, 4);
+PIN(pleat_body_desc, joint_names, 8);
+PIN(pleat_body_desc, parents, 16);
+PIN(pleat_body_desc, joint_positions, 24);
+PIN(pleat_body_desc, vertex_count, 32);
+PIN(pleat_body_desc, positions, 40);
+PIN(pleat_body_desc, triangle_count, 48);
+PIN(pleat_body_desc, triangles, 56);
+PIN(pleat_body_desc, influences, 64);
+PIN(pleat_body_desc, weight_joints, 72);
+PIN(pleat_body_desc, weights, 80);
+SIZE(pleat_body_desc, 88);
