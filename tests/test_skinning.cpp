@@ -6,6 +6,7 @@
 
 #include "body/skinning.h"
 #include "core/error.h"
+#include "support/expect_error.h"
 
 using pleat::Points3d;
 using pleat::SkinWeights;
