@@ -7,6 +7,7 @@
  * It loads and prepares the garment, splits its rest shape into the low, mid
  * and high frequency bands and prints each band's energy.
  */
+#define _GNU_SOURCE /* RTLD_NODELETE */
 #include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
@@ -42,7 +43,10 @@ int main(int argc, char** argv) {
     fprintf(stderr, "usage: %s <libpleat.so> <garment file>\n", argv[0]);
     return 2;
   }
-  library = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+  /* RTLD_NODELETE: the library keeps OpenBLAS worker threads and one-time
+     allocations; a host keeps it mapped for its whole life rather than
+     unmapping code under them at dlclose. */
+  library = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
   if (!library) {
     fprintf(stderr, "dlopen failed: %s\n", dlerror());
     return 1;

@@ -30,7 +30,7 @@ pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_fra
     BandSplitFn split;
     if (g.prepared) {
       const size_t stride = static_cast<size_t>(g.rest.vertex_count()) * 3;
-      split = [&](const float* in, size_t frames, float* low, float* mid, float* high) {
+      split = [&g, stride](const float* in, size_t frames, float* low, float* mid, float* high) {
         split_bands(g.prepared->bands, in, frames, stride, low, stride, mid, stride, high, stride);
       };
     }
