@@ -81,13 +81,8 @@ Body body_from_desc(const pleat_body_desc& d) {
   validate_skeleton(s, b.source);
   const auto n = static_cast<Eigen::Index>(d.vertex_count);
   b.rest.vertices = Eigen::Map<const Points3f>(d.positions, n, 3).cast<double>();
-  b.rest.triangles.resize(static_cast<Eigen::Index>(d.triangle_count), 3);
-  for (size_t i = 0; i < d.triangle_count * 3; ++i) {
-    require(d.triangles[i] < d.vertex_count, "'pleat_body_desc.triangles[" + std::to_string(i) +
-                                                 "]' = " + std::to_string(d.triangles[i]) +
-                                                 " is not below vertex_count");
-    b.rest.triangles.data()[i] = static_cast<int32_t>(d.triangles[i]);
-  }
+  b.rest.triangles =
+      caller_triangles(d.triangles, d.triangle_count, d.vertex_count, "pleat_body_desc.triangles");
   SkinWeights& w = b.weights;
   w.joint_count = static_cast<int32_t>(d.joint_count);
   for (size_t v = 0; v < d.vertex_count; ++v) {
@@ -264,9 +259,8 @@ pleat_status pleat_mesh_write_obj(const char* path, const float* positions, size
     require_not_null(path, "path");
     require_not_null(positions, "positions");
     require_not_null(triangles, "triangles");
-    Triangles t(static_cast<Eigen::Index>(triangle_count), 3);
-    for (size_t i = 0; i < triangle_count * 3; ++i) t.data()[i] = static_cast<int32_t>(triangles[i]);
-    write_obj(path, positions, vertex_count, t);
+    write_obj(path, positions, vertex_count,
+              caller_triangles(triangles, triangle_count, vertex_count, "triangles"));
   });
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "capi/firewall.h"
+#include "core/mesh.h"
 
 namespace pleat::capi {
 
@@ -30,6 +31,19 @@ inline size_t checked_input(pleat_const_frames frames, const char* name, size_t 
 // Output buffers may be NULL (not wanted); returns the stride.
 inline size_t checked_output(pleat_frames frames, const char* name, size_t vertex_count) {
   return frames.data ? resolved_stride(frames.frame_stride, vertex_count, name) : 0;
+}
+
+// Caller index triples as internal triangles; every index must be below
+// vertex_count (the message names `name[i]` and its value).
+inline Triangles caller_triangles(const uint32_t* indices, size_t triangle_count, size_t vertex_count,
+                                  const std::string& name) {
+  Triangles t(static_cast<Eigen::Index>(triangle_count), 3);
+  for (size_t i = 0; i < triangle_count * 3; ++i) {
+    require(indices[i] < vertex_count, name + "[" + std::to_string(i) + "] = " + std::to_string(indices[i]) +
+                                           " is not below vertex_count " + std::to_string(vertex_count));
+    t.data()[i] = static_cast<int32_t>(indices[i]);
+  }
+  return t;
 }
 
 }  // namespace pleat::capi

@@ -70,13 +70,7 @@ pleat_status pleat_garment_create(const float* positions, size_t vertex_count, c
     GarmentBuildOptions b = build_options(options);
     Points3d v =
         Eigen::Map<const Points3f>(positions, static_cast<Eigen::Index>(vertex_count), 3).cast<double>();
-    Triangles t(static_cast<Eigen::Index>(triangle_count), 3);
-    for (size_t i = 0; i < triangle_count * 3; ++i) {
-      require(triangles[i] < vertex_count, "triangles[" + std::to_string(i) +
-                                               "] = " + std::to_string(triangles[i]) +
-                                               " is not below vertex_count " + std::to_string(vertex_count));
-      t.data()[i] = static_cast<int32_t>(triangles[i]);
-    }
+    const Triangles t = caller_triangles(triangles, triangle_count, vertex_count, "triangles");
     hand_out(build_garment(v, t, b, "caller arrays"), out_garment);
   });
 }
