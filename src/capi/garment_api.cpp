@@ -32,14 +32,14 @@ GarmentBuildOptions build_options(const pleat_garment_load_options* options) {
 }
 
 void hand_out(Garment&& garment, pleat_garment** out) {
-  *out = new pleat_garment{std::move(garment)};
+  *out = new pleat_garment{std::make_shared<const Garment>(std::move(garment))};
 }
 
 const PreparedData& prepared(const pleat_garment* g) {
-  if (!g->garment.prepared)
+  if (!g->garment->prepared)
     fail(PLEAT_ERROR_NOT_PREPARED,
-         "garment '" + g->garment.source + "' is not prepared; call pleat_garment_prepare");
-  return *g->garment.prepared;
+         "garment '" + g->garment->source + "' is not prepared; call pleat_garment_prepare");
+  return *g->garment->prepared;
 }
 
 }  // namespace
@@ -82,7 +82,7 @@ void pleat_garment_destroy(pleat_garment* garment) {
 pleat_status pleat_garment_get_report(const pleat_garment* garment, pleat_mesh_report* out_report) {
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
-    write_result(garment->garment.report, out_report, "out_report");
+    write_result(garment->garment->report, out_report, "out_report");
   });
 }
 
@@ -90,7 +90,7 @@ pleat_status pleat_garment_get_mesh(const pleat_garment* garment, float* positio
                                     uint32_t* triangles, size_t triangles_capacity) {
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
-    const TriMesh& m = garment->garment.rest;
+    const TriMesh& m = garment->garment->rest;
     const auto nv = static_cast<size_t>(m.vertices.size()), nt = static_cast<size_t>(m.triangles.size());
     if (positions && positions_capacity < nv)
       fail(PLEAT_ERROR_BUFFER_TOO_SMALL, "positions_capacity " + std::to_string(positions_capacity) +
@@ -120,12 +120,14 @@ pleat_status pleat_garment_prepare(pleat_garment* garment, const pleat_prepare_o
     if (o.mid_fraction != 0.0) b.mid_fraction = o.mid_fraction;
     b.solver = static_cast<SolverKind>(o.solver);
     b.projection = static_cast<ProjectionForm>(o.projection);
-    Garment& g = garment->garment;
+    const Garment& g = *garment->garment;
     PreparedData p;
     p.bands = compute_band_basis(g.graph, b).cast<float>();
     p.geodesic_radius = o.geodesic_radius > 0.0 ? o.geodesic_radius : kDefaultGeodesicRadius;
     p.geodesic = geodesic_neighbourhoods(g.rest.vertices, g.graph, p.geodesic_radius);
-    g.prepared = std::move(p);
+    auto next = std::make_shared<Garment>(g);
+    next->prepared = std::move(p);
+    garment->garment = std::move(next);
   });
 }
 
@@ -154,7 +156,7 @@ pleat_status pleat_garment_save(const pleat_garment* garment, const char* path) 
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
     require_not_null(path, "path");
-    save_garment(garment->garment, path);
+    save_garment(*garment->garment, path);
   });
 }
 
@@ -164,7 +166,7 @@ pleat_status pleat_garment_split_bands(const pleat_garment* garment, pleat_const
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
     const PreparedData& p = prepared(garment);
-    const auto n = static_cast<size_t>(garment->garment.rest.vertex_count());
+    const auto n = static_cast<size_t>(garment->garment->rest.vertex_count());
     const size_t in_stride = checked_input(positions, "positions", n, frame_count);
     const size_t low_stride = checked_output(low, "low", n);
     const size_t mid_stride = checked_output(mid, "mid", n);

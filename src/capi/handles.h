@@ -1,14 +1,18 @@
 #pragma once
 // What the opaque C handles are.
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "body/body.h"
 #include "body/skeleton.h"
 #include "core/garment.h"
 
+// The garment itself is immutable and shared with the instances bound to it;
+// pleat_garment_prepare swaps in a prepared copy, so an instance keeps the
+// garment it was bound to even after the handle is destroyed or re-prepared.
 struct pleat_garment {
-  pleat::Garment garment;
+  std::shared_ptr<const pleat::Garment> garment;
 };
 
 struct pleat_body {

@@ -26,7 +26,7 @@ pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_fra
     m.flags = o.flags;
     if (o.collision_prefilter != 0.0) m.collision_prefilter = o.collision_prefilter;
 
-    const Garment& g = garment->garment;
+    const Garment& g = *garment->garment;
     BandSplitFn split;
     if (g.prepared) {
       const size_t stride = static_cast<size_t>(g.rest.vertex_count()) * 3;
