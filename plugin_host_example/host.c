@@ -3,9 +3,14 @@
  * does: dlopen the library, resolve pleat_get_api, and call through the table.
  *
  *   plugin_host_example <path/to/libpleat.so.0> <garment.obj|.fbx|.gltf|.pleatg>
+ *                       [<model.pleat> <body> <motion.bvh> <out_####.obj> [frames]]
  *
  * It loads and prepares the garment, splits its rest shape into the low, mid
- * and high frequency bands and prints each band's energy.
+ * and high frequency bands and prints each band's energy. Given a model, a
+ * body (a MakeHuman assets folder, an SMPL-layout .npz or a rigged mesh) and
+ * a motion, it then binds the model to the garment and the body, evaluates
+ * the first frames of the motion (default 30) and writes them as an OBJ
+ * sequence ('#'s in the name become the frame number).
  */
 #define _GNU_SOURCE /* RTLD_NODELETE */
 #include <dlfcn.h>
@@ -27,6 +32,107 @@ static int fail(const pleat_api* api, pleat_status status, const char* what) {
   return 1;
 }
 
+/* The animation part: model + body + motion -> OBJ sequence. */
+static int animate(const pleat_api* api, const pleat_garment* garment, const char* model_path,
+                   const char* body_path, const char* motion_path, const char* out_pattern, size_t frames) {
+  pleat_model* model = NULL;
+  pleat_body* body = NULL;
+  pleat_motion *clip = NULL, *resampled = NULL, *motion = NULL;
+  pleat_instance* instance = NULL;
+  pleat_model_info model_info = {0};
+  pleat_motion_info motion_info = {0};
+  pleat_instance_info info = {0};
+  pleat_poses poses = {0};
+  pleat_evaluate_outputs outputs = {0};
+  pleat_const_frames written;
+  float *rotations = NULL, *roots = NULL, *positions = NULL;
+  pleat_status status;
+  const char* step = "loading the model";
+  int result = 1;
+
+  status = api->model_load(model_path, &model);
+  if (status == PLEAT_OK) {
+    step = "loading the body";
+    status = api->body_load(body_path, NULL, &body);
+  }
+  if (status == PLEAT_OK) {
+    step = "loading the motion";
+    status = api->motion_load(motion_path, NULL, &clip);
+  }
+  if (status == PLEAT_OK) {
+    model_info.struct_size = sizeof model_info;
+    api->model_get_info(model, &model_info);
+    step = "resampling the motion to the model's frame rate";
+    status = api->motion_resample(clip, model_info.frame_rate, &resampled);
+  }
+  if (status == PLEAT_OK) {
+    step = "retargeting the motion onto the body";
+    status = api->motion_retarget(resampled, body, NULL, &motion);
+  }
+  if (status == PLEAT_OK) {
+    step = "binding the model to the garment and the body";
+    status = api->instance_create(model, garment, body, NULL, &instance);
+  }
+  if (status != PLEAT_OK) {
+    result = fail(api, status, step);
+    goto done;
+  }
+  info.struct_size = sizeof info;
+  motion_info.struct_size = sizeof motion_info;
+  api->instance_get_info(instance, &info);
+  api->motion_get_info(motion, &motion_info);
+  if (frames > motion_info.frame_count) frames = (size_t)motion_info.frame_count;
+  printf("instance: %u vertices, %u joints, top-%u skinning; evaluating %zu frames at %g fps\n",
+         info.vertex_count, info.joint_count, info.top_k, frames, info.frame_rate);
+
+  rotations = malloc(frames * info.joint_count * 4 * sizeof *rotations);
+  roots = malloc(frames * 3 * sizeof *roots);
+  positions = malloc(frames * info.vertex_count * 3 * sizeof *positions);
+  if (!rotations || !roots || !positions) {
+    fprintf(stderr, "out of memory\n");
+    goto done;
+  }
+  status =
+      api->motion_get_frames(motion, 0, frames, rotations, frames * info.joint_count * 4, roots, frames * 3);
+  if (status == PLEAT_OK) {
+    poses.struct_size = sizeof poses;
+    poses.joint_count = info.joint_count;
+    poses.frame_count = frames;
+    poses.rotations = rotations;
+    poses.root_positions = roots;
+    poses.frame_rate = info.frame_rate;
+    outputs.struct_size = sizeof outputs;
+    outputs.positions.data = positions;
+    status = api->instance_evaluate(instance, &poses, 0, frames, NULL, &outputs);
+  }
+  if (status != PLEAT_OK) {
+    result = fail(api, status, "evaluating the frames");
+    goto done;
+  }
+  written.data = positions;
+  written.frame_stride = 0;
+  status = api->cache_write(out_pattern, PLEAT_CACHE_OBJ_SEQUENCE, garment, written, frames,
+                            info.vertex_count, info.frame_rate);
+  if (status != PLEAT_OK) {
+    result = fail(api, status, "writing the OBJ sequence");
+    goto done;
+  }
+  printf("wrote %zu frames to %s\n", frames, out_pattern);
+  result = 0;
+
+done:
+  free(rotations);
+  free(roots);
+  free(positions);
+  api->instance_destroy(instance);
+  api->motion_destroy(motion);
+  api->motion_destroy(resampled);
+  api->motion_destroy(clip);
+  api->body_destroy(body);
+  api->model_destroy(model);
+  return result;
+}
+
 int main(int argc, char** argv) {
   void* library;
   pleat_get_api_fn get_api;
@@ -39,8 +145,11 @@ int main(int argc, char** argv) {
   size_t n;
   int result = 1;
 
-  if (argc != 3) {
-    fprintf(stderr, "usage: %s <libpleat.so> <garment file>\n", argv[0]);
+  if (argc != 3 && argc != 7 && argc != 8) {
+    fprintf(
+        stderr,
+        "usage: %s <libpleat.so> <garment file> [<model.pleat> <body> <motion> <out_####.obj> [frames]]\n",
+        argv[0]);
     return 2;
   }
   /* RTLD_NODELETE: the library keeps OpenBLAS worker threads and one-time
@@ -116,6 +225,9 @@ int main(int argc, char** argv) {
   printf("band energy (RMS per vertex, m): low %.6f  mid %.6f  high %.6f\n", rms(low, n), rms(mid, n),
          rms(high, n));
   result = 0;
+  if (argc >= 7)
+    result =
+        animate(api, garment, argv[3], argv[4], argv[5], argv[6], argc == 8 ? (size_t)atol(argv[7]) : 30);
 
 done:
   free(rest);

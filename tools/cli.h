@@ -2,6 +2,7 @@
 // Shared pieces of the `pleat` command-line tool. The CLI is a client of the
 // public C API only, like any host.
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,8 +37,28 @@ void print_band_info(const pleat_band_info& info);
 // Prints the energy (RMS over vertices) of the rest shape in each band.
 void print_rest_band_energies(const pleat_garment* garment);
 
+using BodyPtr = std::unique_ptr<pleat_body, decltype(&pleat_body_destroy)>;
+using MotionPtr = std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)>;
+using ModelPtr = std::unique_ptr<pleat_model, decltype(&pleat_model_destroy)>;
+
+// --body (+ --rig, --shape).
+BodyPtr load_body(const Args& args);
+// --motion (+ --map), resampled to fps and retargeted onto the body.
+MotionPtr load_motion_for(const Args& args, const pleat_body* body, double fps);
+// --first / --frames within the motion (default: all frames); throws when empty
+// or out of range.
+struct FrameRange {
+  size_t first = 0, count = 0, total = 0;
+};
+FrameRange frame_range(const Args& args, const pleat_motion* motion, double fps);
+
+pleat_model_info model_info(const pleat_model* model);
+void print_model_info(const pleat_model* model);
+
 int run_prepare(const Args& args);
 int run_inspect(const Args& args);
 int run_pose(const Args& args);
+int run_init_model(const Args& args);
+int run_bake(const Args& args);
 
 }  // namespace pleat_cli

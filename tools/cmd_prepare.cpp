@@ -69,6 +69,14 @@ int run_prepare(const Args& args) {
 }
 
 int run_inspect(const Args& args) {
+  const std::string path = args.positional.empty() ? "" : args.positional[0];
+  if (path.size() > 6 && path.compare(path.size() - 6, 6, ".pleat") == 0) {
+    pleat_model* m = nullptr;
+    check(pleat_model_load(path.c_str(), &m), "loading the model '" + path + "'");
+    ModelPtr model(m, pleat_model_destroy);
+    print_model_info(model.get());
+    return 0;
+  }
   GarmentPtr garment = load(args);
   print_report(report_of(garment.get()));
   print_prepared(garment.get());

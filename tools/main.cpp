@@ -1,4 +1,4 @@
-// `pleat`: prepare and inspect garments, pose bodies (more arrive with the runtime).
+// `pleat`: prepare and inspect garments, pose bodies, initialise models, bake.
 #include <cstdio>
 #include <cstring>
 
@@ -17,13 +17,22 @@ const char* kUsage =
     "      --low-fraction F --mid-fraction F    (defaults 1/30, 1/5)\n"
     "      --geodesic-radius M                  (metres, default 0.10)\n"
     "      --weld-tolerance M --unit-scale S    (load options)\n"
-    "  inspect <mesh|file.pleatg>       print the report (and bands, if prepared)\n"
+    "  inspect <mesh|file.pleatg|model.pleat>   print the report (and bands, if prepared),\n"
+    "                                   or a model's architecture\n"
     "  pose --body B --motion M -o body.pc2   a body driven by a motion, as a point cache\n"
     "      --body DIR|file.npz|rig.fbx     MakeHuman assets folder, SMPL-layout .npz, rigged mesh\n"
     "      --rig cmu_mb|default            MakeHuman skeleton (default cmu_mb)\n"
     "      --shape name=value,...          shape entries (MakeHuman: gender, age, muscle, ...)\n"
     "      --motion clip.bvh|clip.fbx      --map joints.txt (names differ)  --fps F (30)\n"
     "      --first N --frames N            frame range  --rest-obj rest.obj  (rest body)\n"
+    "  init-model --body B -o model.pleat   a model with the paper's initialisation for\n"
+    "                                   the body's skeleton (untrained: for testing pipelines)\n"
+    "      --variant flexigat|gat|lgat  --window N (8)  --fps F (30)  --seed N (1)\n"
+    "  bake --model M --garment G --body B --motion clip -o out.pc2|out.mdd|frame_####.obj\n"
+    "                                   the garment driven through the model by the motion\n"
+    "      --garment file.pleatg|mesh   (--unit-scale S for meshes)  --map joints.txt\n"
+    "      --stage skinning|blend-shapes|full (full)  --threads N (1)  --top-k K (model's)\n"
+    "      --first N --frames N         frame range (earlier frames are history)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -45,6 +54,8 @@ int main(int argc, char** argv) {
     if (command == "prepare") return run_prepare(parse_args(argc, argv, 2, {}));
     if (command == "inspect") return run_inspect(parse_args(argc, argv, 2, {}));
     if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
+    if (command == "init-model") return run_init_model(parse_args(argc, argv, 2, {}));
+    if (command == "bake") return run_bake(parse_args(argc, argv, 2, {}));
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {
     std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());

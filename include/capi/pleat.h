@@ -43,8 +43,9 @@ extern "C" {
 #define PLEAT_VERSION_STRING "0.1.0"
 /* (major << 16) | (minor << 8) | patch, as returned by pleat_version(). */
 #define PLEAT_VERSION_NUMBER ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
-/* Version of the function table returned by pleat_get_api(). */
-#define PLEAT_API_VERSION 1u
+/* Version of the function table returned by pleat_get_api(): 1 = garments,
+   metrics, caches, bodies, motions; 2 = + models and instances. */
+#define PLEAT_API_VERSION 2u
 
 /* ---- Status codes -------------------------------------------------------- */
 
@@ -66,6 +67,8 @@ typedef int32_t pleat_status;
 typedef struct pleat_garment pleat_garment;
 typedef struct pleat_body pleat_body;
 typedef struct pleat_motion pleat_motion;
+typedef struct pleat_model pleat_model;
+typedef struct pleat_instance pleat_instance;
 
 /* ---- Plain data ---------------------------------------------------------- */
 
@@ -256,6 +259,94 @@ typedef struct pleat_motion_info {
   double unit_scale; /* metres per file unit that was applied */
 } pleat_motion_info;
 
+/* Graph-attention variants (paper Table I); pleat_model_info.variant and
+   pleat_model_init_options.variant. */
+#define PLEAT_VARIANT_FLEXIGAT 1 /* learned self/neighbour mix P, Q per head */
+#define PLEAT_VARIANT_GAT 2      /* plain GAT (P = Q = 1 frozen) */
+#define PLEAT_VARIANT_LGAT 3     /* GAT with LipschitzNorm of the attention logits */
+
+typedef struct pleat_model_info {
+  uint32_t struct_size;
+  uint32_t format_version; /* of the file it was loaded from (or would be saved as) */
+  uint32_t joint_count;    /* skeleton the model was trained on */
+  uint32_t shape_count;    /* entries of the shape vector it reads */
+  uint32_t window_frames;  /* motion window m + 1 */
+  uint32_t variant;        /* PLEAT_VARIANT_* of its graph layers */
+  uint32_t default_top_k;  /* joints per vertex in skinning unless overridden */
+  uint32_t code_width;     /* width of the fused code F */
+  double frame_rate;       /* poses must come at this rate */
+  uint64_t parameter_count;
+} pleat_model_info;
+
+/* The paper's initialisation for a skeleton (pleat_model_initialize). */
+typedef struct pleat_model_init_options {
+  uint32_t struct_size;
+  uint32_t variant;       /* PLEAT_VARIANT_*; 0 = FlexiGAT */
+  uint32_t window_frames; /* 0 = 8 */
+  uint32_t reserved;
+  uint64_t seed;     /* 0 = 1 */
+  double frame_rate; /* 0 = 30 */
+} pleat_model_init_options;
+
+typedef struct pleat_instance_options {
+  uint32_t struct_size;
+  uint32_t threads;   /* worker threads this instance owns; 0 = 1 (the calling thread only) */
+  uint32_t top_k;     /* joints per vertex in skinning; 0 = the model's default; >= joint_count = exact */
+  uint32_t max_batch; /* frames evaluated together (memory grows with it); 0 = 8 */
+} pleat_instance_options;
+
+typedef struct pleat_instance_info {
+  uint32_t struct_size;
+  uint32_t vertex_count; /* garment vertices per output frame */
+  uint32_t joint_count;  /* joints per pose (the body's) */
+  uint32_t top_k;
+  uint32_t window_frames;
+  uint32_t max_batch;
+  double frame_rate;
+} pleat_instance_info;
+
+/* Poses in the bound body's joint order: frame_count * joint_count unit
+   quaternions (x, y, z, w) relative to each joint's rest orientation, and
+   frame_count root positions (xyz, metres). Frames before the evaluated
+   range are the history the model looks at (motion window, velocities);
+   before frame 0 the sequence holds still at frame 0. */
+typedef struct pleat_poses {
+  uint32_t struct_size;
+  uint32_t joint_count;
+  size_t frame_count;
+  const float* rotations;
+  const float* root_positions;
+  double frame_rate; /* must equal the model's (resample with pleat_motion_resample) */
+} pleat_poses;
+
+/* How far evaluation goes (pleat_evaluate_options.stage). */
+#define PLEAT_STAGE_FULL 0         /* everything the model has: the default */
+#define PLEAT_STAGE_SKINNING 1     /* learned skinning weights + LBS of the rest garment */
+#define PLEAT_STAGE_BLEND_SHAPES 2 /* + pose-dependent blend shapes */
+#define PLEAT_STAGE_REFINEMENT 3   /* + the refinement network (= full) */
+
+typedef struct pleat_evaluate_options {
+  uint32_t struct_size;
+  uint32_t stage; /* PLEAT_STAGE_*; 0 = full */
+} pleat_evaluate_options;
+
+/* Where evaluation writes; any output whose data is NULL is not computed.
+   Positions and normals: vertex_count xyz per frame (stride 0 =
+   vertex_count * 3). Skinning weights: vertex_count * joint_count per frame
+   in the model's joint order (pleat_model_joint_name), zero outside each
+   vertex's top k (stride 0 = vertex_count * joint_count). Bands: the
+   positions split into low + mid + high (needs a prepared garment). */
+typedef struct pleat_evaluate_outputs {
+  uint32_t struct_size;
+  uint32_t reserved;
+  pleat_frames positions;
+  pleat_frames normals;
+  pleat_frames skinning_weights;
+  pleat_frames low;
+  pleat_frames mid;
+  pleat_frames high;
+} pleat_evaluate_outputs;
+
 /* ---- Library ------------------------------------------------------------- */
 
 /* PLEAT_VERSION_NUMBER of the loaded library. Thread-safe. */
@@ -440,6 +531,66 @@ PLEAT_EXPORT pleat_status pleat_motion_get_frames(const pleat_motion* motion, si
                                                   size_t rotations_capacity, float* root_positions,
                                                   size_t root_capacity);
 
+/* ---- Models -------------------------------------------------------------- */
+
+/* Loads a model file (.pleat, FlatBuffers): runs the FlatBuffers verifier and
+   checks every tensor's shape against the architecture. A file from a newer
+   format gives PLEAT_ERROR_UNSUPPORTED_VERSION, a damaged one
+   PLEAT_ERROR_FORMAT. A model is immutable and shareable by threads.
+   Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_model_load(const char* path, pleat_model** out_model);
+
+/* A model with the paper's initialisation (geometric for linear layers,
+   Kaiming for graph layers) for the skeleton and shape vector of `body`:
+   valid and loadable before any training exists. Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_model_initialize(const pleat_body* body,
+                                                 const pleat_model_init_options* options,
+                                                 pleat_model** out_model);
+
+/* Writes the model atomically (temporary file, then rename). Thread-safe. */
+PLEAT_EXPORT pleat_status pleat_model_save(const pleat_model* model, const char* path);
+
+/* NULL is accepted. Instances keep the model alive: it may be destroyed
+   while instances bound to it are in use. */
+PLEAT_EXPORT void pleat_model_destroy(pleat_model* model);
+
+/* Thread-safe on a shared model. */
+PLEAT_EXPORT pleat_status pleat_model_get_info(const pleat_model* model, pleat_model_info* out_info);
+
+/* Name of the model's joint `index`; NULL when out of range. The string lives
+   as long as the model. Thread-safe. */
+PLEAT_EXPORT const char* pleat_model_joint_name(const pleat_model* model, uint32_t index);
+
+/* ---- Instances ----------------------------------------------------------- */
+
+/* Binds a model to a garment and a body: checks that the body's skeleton can
+   drive the model (same joint names, same parents; message names the joint),
+   and computes every pose-independent result (body code, garment encoder).
+   The instance keeps its own references: model, garment and body may be
+   destroyed afterwards. Thread-safe on shared model, garment and body. */
+PLEAT_EXPORT pleat_status pleat_instance_create(const pleat_model* model, const pleat_garment* garment,
+                                                const pleat_body* body, const pleat_instance_options* options,
+                                                pleat_instance** out_instance);
+
+/* NULL is accepted. */
+PLEAT_EXPORT void pleat_instance_destroy(pleat_instance* instance);
+
+/* Counts and settings. Thread-safe (they never change after binding). */
+PLEAT_EXPORT pleat_status pleat_instance_get_info(const pleat_instance* instance,
+                                                  pleat_instance_info* out_info);
+
+/* Evaluates frames [first_frame, first_frame + frame_count) of `poses` into
+   the outputs. Results depend only on the poses (not on batching, earlier
+   calls or the thread count). Allocates nothing. Every input is checked
+   before anything is written; a non-finite result (PLEAT_ERROR_NUMERICAL)
+   stops at the batch of max_batch frames where it arose, leaving that batch
+   unwritten. One thread at a time per instance; different instances may run
+   on different threads at once. */
+PLEAT_EXPORT pleat_status pleat_instance_evaluate(pleat_instance* instance, const pleat_poses* poses,
+                                                  size_t first_frame, size_t frame_count,
+                                                  const pleat_evaluate_options* options,
+                                                  const pleat_evaluate_outputs* outputs);
+
 /* ---- Meshes -------------------------------------------------------------- */
 
 /* Writes a triangle mesh as OBJ, atomically. Thread-safe. */
@@ -490,6 +641,18 @@ typedef struct pleat_api {
   pleat_status (*mesh_write_obj)(const char*, const float*, size_t, const uint32_t*, size_t);
   pleat_status (*body_create)(const pleat_body_desc*, pleat_body**);
   pleat_status (*body_pose)(const pleat_body*, const float*, const float*, size_t, pleat_frames);
+  pleat_status (*model_load)(const char*, pleat_model**);
+  pleat_status (*model_initialize)(const pleat_body*, const pleat_model_init_options*, pleat_model**);
+  pleat_status (*model_save)(const pleat_model*, const char*);
+  void (*model_destroy)(pleat_model*);
+  pleat_status (*model_get_info)(const pleat_model*, pleat_model_info*);
+  const char* (*model_joint_name)(const pleat_model*, uint32_t);
+  pleat_status (*instance_create)(const pleat_model*, const pleat_garment*, const pleat_body*,
+                                  const pleat_instance_options*, pleat_instance**);
+  void (*instance_destroy)(pleat_instance*);
+  pleat_status (*instance_get_info)(const pleat_instance*, pleat_instance_info*);
+  pleat_status (*instance_evaluate)(pleat_instance*, const pleat_poses*, size_t, size_t,
+                                    const pleat_evaluate_options*, const pleat_evaluate_outputs*);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer

@@ -7,6 +7,8 @@
 #include "body/body.h"
 #include "body/skeleton.h"
 #include "core/garment.h"
+#include "runtime/instance.h"
+#include "runtime/model.h"
 
 // The garment itself is immutable and shared with the instances bound to it;
 // pleat_garment_prepare swaps in a prepared copy, so an instance keeps the
@@ -25,4 +27,12 @@ struct pleat_body {
 struct pleat_motion {
   pleat::Motion motion;
   double unit_scale = 1.0;  // metres per file unit that loading applied
+};
+
+struct pleat_model {
+  std::shared_ptr<const pleat::runtime::Model> model;
+};
+
+struct pleat_instance {
+  pleat::runtime::Instance instance;
 };

@@ -12,6 +12,10 @@ Points<Scalar> face_normals(const Points<Scalar>& x, const Triangles& t);
 // Area-weighted unit vertex normals (zero where no face contributes).
 template <typename Scalar>
 Points<Scalar> vertex_normals(const Points<Scalar>& x, const Triangles& t);
+// The same into caller memory (row-major xyz, vertex_count rows each);
+// allocates nothing, for per-frame use.
+template <typename Scalar>
+void vertex_normals(const Scalar* x, Eigen::Index vertex_count, const Triangles& t, Scalar* normals);
 
 Eigen::VectorXd face_areas(const Points3d& x, const Triangles& t);
 

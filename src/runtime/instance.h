@@ -18,9 +18,9 @@ namespace pleat::runtime {
 enum class Stage : int32_t { skinning = 1, blend_shapes = 2, refinement = 3 };
 
 struct InstanceOptions {
-  int32_t threads = 1;     // own worker pool when > 1
-  int32_t top_k = 0;       // joints per vertex in LBS; 0 = the model's default; >= S = exact
-  int32_t max_batch = 8;   // frames evaluated together (workspaces are sized for this)
+  int32_t threads = 1;    // own worker pool when > 1
+  int32_t top_k = 0;      // joints per vertex in LBS; 0 = the model's default; >= S = exact
+  int32_t max_batch = 8;  // frames evaluated together (workspaces are sized for this)
 };
 
 // Poses in the body's joint order, as the C API takes them:
@@ -72,6 +72,7 @@ class Instance {
   int32_t vertex_count() const;
   int32_t joint_count() const;
   int32_t top_k() const;
+  int32_t max_batch() const;
   const Model& model() const;
 
  private:

@@ -32,4 +32,22 @@ const char* feature_name(Feature feature) {
   return "unknown";
 }
 
+int64_t parameter_count(const Model& model) {
+  int64_t count = 0;
+  const auto dense = [&](const nn::Dense& d) { count += d.weight.size() + d.bias.size(); };
+  const auto stack = [&](const GraphStack& g) {
+    for (const nn::GraphAttentionLayer& l : g.layers)
+      count += l.weight.size() + l.attention.size() + l.p.size() + l.q.size() + l.bias.size();
+  };
+  for (const nn::Dense& d : model.body_encoder.layers) dense(d);
+  dense(model.body_pool);
+  stack(model.garment_encoder);
+  for (const nn::GruLayer& l : model.motion_encoder.layers)
+    count += l.w_ih.size() + l.w_hh.size() + l.b_ih.size() + l.b_hh.size();
+  dense(model.skinning);
+  stack(model.blend);
+  stack(model.refinement);
+  return count;
+}
+
 }  // namespace pleat::runtime

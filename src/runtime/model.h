@@ -4,11 +4,11 @@
 // trained with. Immutable once built; shared by every instance bound to it.
 //
 // Data flow per frame t (docs/runtime.md has the exact feature definitions):
-//   body code   b   = tanh(pool [mean | max] over body vertices of body_encoder([β | Dis_i]))
+//   body code   b   = σ(body_pool([mean | max] over body vertices of body_encoder([β | Dis_i])))
 //   garment     G   = garment_encoder(rest features)                      (N x C)
 //   motion      q^t = motion_encoder(window of frame features)            (C)
 //   fusion      F^t = G ⊙ b ⊙ q^t                                          (N x C)
-//   weights     W^t = softmax(F^t · skinning.weight + skinning.bias)       (N x S)
+//   weights     W^t = softmax(F^t · skinning.weight + skinning.bias + prior) (N x S)
 //   blend       T^t = T̄ + blend_scale · blend(F^t)
 //   skinning    M̃^t = LBS(T^t, joint transforms of frame t, W^t)
 //   refinement  M^t = M̃^t + refinement_scale · refinement(features of M̃^t)
@@ -23,19 +23,21 @@
 
 namespace pleat::runtime {
 
+using nn::Index;
+
 // Per-vertex / per-frame input features. Each stack's input is the
 // concatenation of its feature list, in order (widths in parentheses;
 // S = joint count, |β| = shape count).
 enum class Feature : int32_t {
-  shape = 0,                 // body encoder: β in the model's shape order (|β|)
-  rest_joint_distances = 1,  // body / garment encoder: distances to the rest joints J(β) (S)
-  rest_position = 2,         // garment encoder: rest position (3)
-  rest_normal = 3,           // garment encoder: rest normal (3)
-  joint_rotations_6d = 4,    // motion encoder: per joint, first two columns of its pose rotation (6 S)
-  root_velocity = 5,         // motion encoder: root velocity, m/s, in frame t's heading frame (3)
-  velocity = 6,              // refinement: (M̃^t − M̃^{t−1}) · frame rate in frame t's frame (3)
-  normal = 7,                // refinement: vertex normal of M̃^t (3)
-  posed_joint_distances = 8, // refinement: distances to the joints of frame t (S)
+  shape = 0,                  // body encoder: β in the model's shape order (|β|)
+  rest_joint_distances = 1,   // body / garment encoder: distances to the rest joints J(β) (S)
+  rest_position = 2,          // garment encoder: rest position (3)
+  rest_normal = 3,            // garment encoder: rest normal (3)
+  joint_rotations_6d = 4,     // motion encoder: per joint, first two columns of its pose rotation (6 S)
+  root_velocity = 5,          // motion encoder: root velocity, m/s, in frame t's heading frame (3)
+  velocity = 6,               // refinement: (M̃^t − M̃^{t−1}) · frame rate in frame t's frame (3)
+  normal = 7,                 // refinement: vertex normal of M̃^t (3)
+  posed_joint_distances = 8,  // refinement: distances to the joints of frame t (S)
 };
 int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count);
 const char* feature_name(Feature feature);
@@ -99,7 +101,7 @@ struct Model {
   std::string source;  // file it came from, for messages
   ModelSkeleton skeleton;
   std::vector<ShapeEntry> shape;
-  double frame_rate = 30.0;  // poses must come at this rate
+  double frame_rate = 30.0;   // poses must come at this rate
   int32_t window_frames = 8;  // m + 1
   MotionMode motion_mode = MotionMode::window;
   int32_t default_top_k = 4;  // joints per vertex at runtime; >= S means exact
@@ -110,6 +112,7 @@ struct Model {
   InputNormalization body_normalization;
   nn::Mlp body_encoder;
   nn::Dense body_pool;  // 2 * body_encoder.out_width() -> code width
+  nn::Activation body_pool_activation = nn::Activation::tanh();
 
   GraphStack garment_encoder;  // -> code width
 
@@ -118,6 +121,11 @@ struct Model {
   nn::Gru motion_encoder;  // hidden width = code width
 
   nn::Dense skinning;  // code width -> S (softmax over joints)
+  // Weight of the bound body's skinning as a prior on the logits:
+  // logits += skinning_prior * log(w_body + 1e-6), w_body = the skin weights
+  // of the body vertex nearest to each rest garment vertex (0 = none, the
+  // paper's form). docs/decisions/0004-skinning-prior.md.
+  float skinning_prior = 0.0f;
 
   GraphStack blend;  // code width -> 3
   float blend_scale = 1.0f;
@@ -131,6 +139,9 @@ struct Model {
   int32_t shape_count() const { return static_cast<int32_t>(shape.size()); }
   Index code_width() const { return body_pool.out_width(); }
 };
+
+// Number of learned scalars (every weight, bias, attention vector, P, Q).
+int64_t parameter_count(const Model& model);
 
 // Throws pleat::Error(PLEAT_ERROR_FORMAT) naming `model.source` and the field
 // at fault unless every width chains (feature lists -> first layers, stacks

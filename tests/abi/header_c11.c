@@ -45,7 +45,17 @@ PIN(pleat_api, motion_get_frames, 256);
 PIN(pleat_api, mesh_write_obj, 264);
 PIN(pleat_api, body_create, 272);
 PIN(pleat_api, body_pose, 280);
-SIZE(pleat_api, 288);
+PIN(pleat_api, model_load, 288);
+PIN(pleat_api, model_initialize, 296);
+PIN(pleat_api, model_save, 304);
+PIN(pleat_api, model_destroy, 312);
+PIN(pleat_api, model_get_info, 320);
+PIN(pleat_api, model_joint_name, 328);
+PIN(pleat_api, instance_create, 336);
+PIN(pleat_api, instance_destroy, 344);
+PIN(pleat_api, instance_get_info, 352);
+PIN(pleat_api, instance_evaluate, 360);
+SIZE(pleat_api, 368);
 
 PIN(pleat_const_frames, data, 0);
 PIN(pleat_const_frames, frame_stride, 8);
@@ -162,3 +172,58 @@ PIN(pleat_body_desc, influences, 64);
 PIN(pleat_body_desc, weight_joints, 72);
 PIN(pleat_body_desc, weights, 80);
 SIZE(pleat_body_desc, 88);
+
+PIN(pleat_model_info, struct_size, 0);
+PIN(pleat_model_info, format_version, 4);
+PIN(pleat_model_info, joint_count, 8);
+PIN(pleat_model_info, shape_count, 12);
+PIN(pleat_model_info, window_frames, 16);
+PIN(pleat_model_info, variant, 20);
+PIN(pleat_model_info, default_top_k, 24);
+PIN(pleat_model_info, code_width, 28);
+PIN(pleat_model_info, frame_rate, 32);
+PIN(pleat_model_info, parameter_count, 40);
+SIZE(pleat_model_info, 48);
+
+PIN(pleat_model_init_options, struct_size, 0);
+PIN(pleat_model_init_options, variant, 4);
+PIN(pleat_model_init_options, window_frames, 8);
+PIN(pleat_model_init_options, seed, 16);
+PIN(pleat_model_init_options, frame_rate, 24);
+SIZE(pleat_model_init_options, 32);
+
+PIN(pleat_instance_options, struct_size, 0);
+PIN(pleat_instance_options, threads, 4);
+PIN(pleat_instance_options, top_k, 8);
+PIN(pleat_instance_options, max_batch, 12);
+SIZE(pleat_instance_options, 16);
+
+PIN(pleat_instance_info, struct_size, 0);
+PIN(pleat_instance_info, vertex_count, 4);
+PIN(pleat_instance_info, joint_count, 8);
+PIN(pleat_instance_info, top_k, 12);
+PIN(pleat_instance_info, window_frames, 16);
+PIN(pleat_instance_info, max_batch, 20);
+PIN(pleat_instance_info, frame_rate, 24);
+SIZE(pleat_instance_info, 32);
+
+PIN(pleat_poses, struct_size, 0);
+PIN(pleat_poses, joint_count, 4);
+PIN(pleat_poses, frame_count, 8);
+PIN(pleat_poses, rotations, 16);
+PIN(pleat_poses, root_positions, 24);
+PIN(pleat_poses, frame_rate, 32);
+SIZE(pleat_poses, 40);
+
+PIN(pleat_evaluate_options, struct_size, 0);
+PIN(pleat_evaluate_options, stage, 4);
+SIZE(pleat_evaluate_options, 8);
+
+PIN(pleat_evaluate_outputs, struct_size, 0);
+PIN(pleat_evaluate_outputs, positions, 8);
+PIN(pleat_evaluate_outputs, normals, 24);
+PIN(pleat_evaluate_outputs, skinning_weights, 40);
+PIN(pleat_evaluate_outputs, low, 56);
+PIN(pleat_evaluate_outputs, mid, 72);
+PIN(pleat_evaluate_outputs, high, 88);
+SIZE(pleat_evaluate_outputs, 104);

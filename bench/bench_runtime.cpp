@@ -1,0 +1,182 @@
+// Frames per second of the full model (DESIGN §4, the initialiser's
+// architecture) on skirt-like garments of ~1k, ~4k and ~16k vertices bound to
+// the MakeHuman body, per stage, with the FLOP count per frame and the
+// fraction of an sgemm peak measured in the same run.
+// Usage: bench_runtime <assets dir (../shared/data)> [--quick]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "body/makehuman.h"
+#include "body/motion_ops.h"
+#include "core/garment.h"
+#include "io/bvh.h"
+#include "nn/tensor.h"
+#include "runtime/instance.h"
+#include "runtime/model_init.h"
+#include "spectral/blas_threads.h"
+
+using namespace pleat;
+using namespace pleat::runtime;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double median_seconds(const std::function<void()>& f, int reps) {
+  f();  // warm-up
+  std::vector<double> t;
+  for (int r = 0; r < reps; ++r) {
+    const auto s = Clock::now();
+    f();
+    t.push_back(std::chrono::duration<double>(Clock::now() - s).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+// An open cylinder (a skirt) of rings x segments vertices around the hips.
+std::shared_ptr<const Garment> skirt(int rings, int segments, double hip_height) {
+  Points3d v(rings * segments, 3);
+  const double pi = std::acos(-1.0);
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double a = 2.0 * pi * s / segments, y = hip_height + 0.1 - 0.5 * r / (rings - 1);
+      const double radius = 0.19 + 0.08 * r / (rings - 1);
+      v.row(r * segments + s) << radius * std::sin(a), y, radius * std::cos(a);
+    }
+  Triangles t((rings - 1) * segments * 2, 3);
+  Eigen::Index k = 0;
+  for (int r = 0; r + 1 < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const int a = r * segments + s, b = r * segments + (s + 1) % segments;
+      t.row(k++) << a, a + segments, b;
+      t.row(k++) << b, a + segments, b + segments;
+    }
+  return std::make_shared<const Garment>(build_garment(v, t, {}, "skirt"));
+}
+
+// Multiply-adds x 2 of a graph stack on a garment with `edges` attention
+// edges (self loops included): the folded GEMM plus the aggregation.
+double stack_flops(const GraphStack& stack, double n, double edges) {
+  double f = 0;
+  for (const nn::GraphAttentionLayer& l : stack.layers)
+    f += 2.0 * n * double(l.in_width()) * double(l.projected_width()) +
+         edges * double(l.heads) * (2.0 * double(l.head_width()) + 6.0);
+  return f;
+}
+
+struct StageFlops {
+  double skinning = 0, blend = 0, refinement = 0;
+};
+
+StageFlops frame_flops(const Model& m, const Garment& g, int top_k) {
+  const double n = g.rest.vertex_count(), c = double(m.code_width()), s = m.joint_count();
+  const double edges = double(g.graph.indices.size()) + n;
+  double gru = 0;
+  for (const nn::GruLayer& l : m.motion_encoder.layers)
+    gru += 2.0 * m.window_frames * (double(l.w_ih.size()) + double(l.w_hh.size()));
+  StageFlops f;
+  f.skinning = gru + 2.0 * n * c /* fusion */ + 2.0 * n * c * s /* logits */ + 4.0 * n * s /* softmax */ +
+               n * top_k * 24.0 /* LBS */;
+  f.blend = f.skinning + stack_flops(m.blend, n, edges);
+  f.refinement = f.blend + n * (6.0 * s + 30.0) /* features */ + stack_flops(m.refinement, n, edges);
+  return f;
+}
+
+double sgemm_peak(int reps) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-1, 1);
+  double best = 0;
+  for (auto [m, k, n] : {std::tuple<int, int, int>{4096, 128, 128}, {4096, 256, 256}, {16384, 128, 128}}) {
+    nn::MatrixRM a(m, k), b(k, n), c(m, n);
+    for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = u(rng);
+    for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
+    const double t = median_seconds([&] { c.noalias() = a * b; }, reps);
+    best = std::max(best, 2.0 * m * k * n / t * 1e-9);
+  }
+  return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: bench_runtime <assets dir> [--quick]\n");
+    return 2;
+  }
+  const std::string assets = argv[1];
+  const bool quick = argc > 2 && std::strcmp(argv[2], "--quick") == 0;
+  const int reps = quick ? 5 : 15;
+  {
+    std::ifstream load("/proc/loadavg");
+    std::string line;
+    std::getline(load, line);
+    std::printf("load average: %s\n", line.c_str());
+  }
+  const double peak = sgemm_peak(reps);
+  std::printf("sgemm peak (OpenBLAS, 2 threads, same run): %.1f GFLOP/s\n", peak);
+
+  const Body body = MakeHumanModel::load(assets + "/body")->body(makehuman_default_beta());
+  ModelSkeleton skeleton{body.skeleton.names, body.skeleton.parents};
+  std::vector<ShapeEntry> shape;
+  for (const ShapeParameter& p : body.shape) shape.push_back({p.name, float(p.default_value)});
+  std::shared_ptr<const Model> model = initialize_model(skeleton, shape, ModelInitOptions{});
+
+  Motion motion = retarget_motion(
+      resample_motion(read_bvh(assets + "/motions/cmu_mb/12_03.bvh").motion, 30.0), body.skeleton);
+  const int32_t joints = body.joint_count();
+  const int64_t frames = std::min<int64_t>(motion.frame_count, 64);
+  std::vector<float> rotations(frames * joints * 4), roots(frames * 3);
+  for (int64_t f = 0; f < frames; ++f) {
+    for (int32_t j = 0; j < joints; ++j) {
+      const Eigen::Quaterniond& q = motion.frame(f)[j];
+      float* r = &rotations[(f * joints + j) * 4];
+      r[0] = float(q.x()), r[1] = float(q.y()), r[2] = float(q.z()), r[3] = float(q.w());
+    }
+    for (int k = 0; k < 3; ++k) roots[f * 3 + k] = float(motion.root_translation(f, k));
+  }
+  PoseSequence poses{rotations.data(), roots.data(), frames, joints, 30.0};
+  const double hips = body.skeleton.rest_translation(0, 1);
+
+  std::printf("\nfull model: %lld parameters, window %d, top-k %d; batch of 8 frames per call\n",
+              static_cast<long long>(parameter_count(*model)), model->window_frames, model->default_top_k);
+  std::printf("%7s %7s %-12s %9s %9s %9s %8s %7s\n", "N", "threads", "stage", "ms/frame", "fps", "MFLOP/fr",
+              "GFLOP/s", "% peak");
+  const std::vector<std::pair<int, int>> sizes =
+      quick ? std::vector<std::pair<int, int>>{{32, 32}, {64, 64}}
+            : std::vector<std::pair<int, int>>{{32, 32}, {64, 64}, {128, 128}};
+  for (auto [rings, segments] : sizes) {
+    std::shared_ptr<const Garment> garment = skirt(rings, segments, hips);
+    const StageFlops flops = frame_flops(*model, *garment, model->default_top_k);
+    for (int threads : {1, 2}) {
+      InstanceOptions options;
+      options.threads = threads;
+      options.max_batch = 8;
+      Instance instance(model, garment, body, options);
+      const int n = instance.vertex_count();
+      std::vector<float> out(size_t(8) * n * 3);
+      EvaluateOutputs outputs;
+      outputs.positions = {out.data(), size_t(n) * 3};
+      for (auto [stage, name, f] :
+           {std::tuple<Stage, const char*, double>{Stage::skinning, "skinning", flops.skinning},
+            {Stage::blend_shapes, "blend-shapes", flops.blend},
+            {Stage::refinement, "full", flops.refinement}}) {
+        const double t =
+            median_seconds([&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); }, reps) / 8.0;
+        const double gflops = f / t * 1e-9;
+        std::printf("%7d %7d %-12s %9.3f %9.1f %9.1f %8.1f %6.1f%%\n", n, threads, name, t * 1e3, 1.0 / t,
+                    f * 1e-6, gflops, 100.0 * gflops / peak);
+      }
+    }
+  }
+  return 0;
+}

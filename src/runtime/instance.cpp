@@ -1,0 +1,539 @@
+// Instance: binding (everything pose-independent, once) and per-frame
+// evaluation in preallocated workspaces. docs/runtime.md defines every
+// feature; the order of operations here is the contract the trainer's
+// forward pass reproduces.
+#include "runtime/instance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+#include "core/geometry.h"
+#include "metrics/nearest_points.h"
+#include "nn/mlp.h"
+#include "nn/parallel.h"
+#include "runtime/frame_features.h"
+#include "spectral/band_split.h"
+#include "spectral/blas_threads.h"
+
+namespace pleat::runtime {
+namespace {
+
+using nn::ConstMatrixRef;
+using nn::MatrixRef;
+using nn::MatrixRM;
+using nn::RowVector;
+using nn::view;
+
+constexpr int32_t kRowBlock = nn::kAttentionTaskRows;
+constexpr double kUnitTolerance = 1e-3;  // allowed | |q| - 1 | of a pose rotation
+constexpr float kPriorFloor = 1e-6f;     // log(w + floor): a zero body weight stays finite
+
+[[noreturn]] void bad(const std::string& what) {
+  fail(PLEAT_ERROR_INVALID_ARGUMENT, what);
+}
+
+// fn(begin, end) over rows [0, n) in fixed blocks of kRowBlock, so the work
+// of a row never depends on the executor. fn must not throw.
+template <typename Fn>
+void for_row_blocks(nn::Executor& executor, int32_t n, const Fn& fn) {
+  struct Context {
+    const Fn* fn;
+    int32_t n;
+  } context{&fn, n};
+  executor.run((n + kRowBlock - 1) / kRowBlock,
+               [](void* c, int32_t task) {
+                 const Context& ctx = *static_cast<const Context*>(c);
+                 const int32_t begin = task * kRowBlock;
+                 (*ctx.fn)(begin, std::min(ctx.n, begin + kRowBlock));
+               },
+               &context);
+}
+
+// (x - shift) * scale on rows [begin, end) of a feature matrix.
+void normalize_rows(const InputNormalization& n, MatrixRM& x, int32_t begin, int32_t end) {
+  if (n.empty()) return;
+  for (int32_t r = begin; r < end; ++r) x.row(r) = (x.row(r) - n.shift).cwiseProduct(n.scale);
+}
+
+// Ping-pong buffers of a graph stack plus its attention workspace; one set
+// serves every stack of an instance (sized for the largest).
+struct StackBuffers {
+  std::vector<float> a, b;
+  nn::GraphAttentionWorkspace attention;
+
+  void reserve(const GraphStack& stack, const nn::AttentionGraph& graph) {
+    Index widest = 0;
+    for (const nn::GraphAttentionLayer& l : stack.layers) {
+      widest = std::max(widest, l.out_width());
+      attention.reserve(l, graph);
+    }
+    const size_t floats = static_cast<size_t>(graph.node_count()) * static_cast<size_t>(widest);
+    if (a.size() < floats) a.resize(floats);
+    if (b.size() < floats) b.resize(floats);
+  }
+};
+
+// in (N x stack input) -> out (N x 3 or code width) through every layer.
+void run_stack(const GraphStack& stack, const nn::AttentionGraph& graph, ConstMatrixRef in, MatrixRef out,
+               StackBuffers& buffers, nn::Executor& executor) {
+  const Index n = graph.node_count();
+  const float* source = in.data();
+  Index source_stride = in.outerStride(), source_width = in.cols();
+  for (size_t i = 0; i < stack.layers.size(); ++i) {
+    const nn::GraphAttentionLayer& layer = stack.layers[i];
+    const bool last = i + 1 == stack.layers.size();
+    float* target = last ? out.data() : (i % 2 == 0 ? buffers.a.data() : buffers.b.data());
+    const Index target_stride = last ? out.outerStride() : layer.out_width();
+    nn::graph_attention_forward(layer, graph, view(source, n, source_width, source_stride),
+                                view(target, n, layer.out_width(), target_stride), buffers.attention, nullptr,
+                                &executor);
+    source = target;
+    source_stride = target_stride;
+    source_width = layer.out_width();
+  }
+}
+
+// Model joint j is body joint body_of_model[j]: same count, every model
+// name present, parents corresponding. Messages name the joint at fault.
+std::vector<int32_t> map_joints(const Model& model, const Skeleton& body, const std::string& body_source) {
+  const ModelSkeleton& s = model.skeleton;
+  if (body.joint_count() != s.joint_count())
+    bad("body '" + body_source + "' has " + std::to_string(body.joint_count()) + " joints, model '" +
+        model.source + "' was trained on " + std::to_string(s.joint_count()) +
+        " (retarget the motion onto a body with the model's skeleton)");
+  std::vector<int32_t> map(static_cast<size_t>(s.joint_count()));
+  for (int32_t j = 0; j < s.joint_count(); ++j) {
+    const int32_t b = body.find(s.joint_names[j]);
+    if (b < 0)
+      bad("model joint " + std::to_string(j) + " '" + s.joint_names[j] + "' is not a joint of body '" +
+          body_source + "'");
+    map[j] = b;
+  }
+  for (int32_t j = 0; j < s.joint_count(); ++j) {
+    const int32_t model_parent = s.parents[j];
+    const int32_t body_parent = body.parents[map[j]];
+    const int32_t expected = model_parent < 0 ? -1 : map[model_parent];
+    if (body_parent != expected)
+      bad("joint '" + s.joint_names[j] + "' has parent '" +
+          (body_parent < 0 ? std::string("(none)") : body.names[body_parent]) + "' in body '" + body_source +
+          "' but '" + (model_parent < 0 ? std::string("(none)") : s.joint_names[model_parent]) +
+          "' in model '" + model.source + "'");
+  }
+  return map;
+}
+
+// β in the model's order: the body's value by name, the model's default for
+// a body without a shape vector.
+RowVector shape_vector(const Model& model, const Body& body) {
+  RowVector beta(model.shape_count());
+  for (int32_t i = 0; i < model.shape_count(); ++i) {
+    const ShapeEntry& entry = model.shape[i];
+    if (body.shape.empty()) {
+      beta[i] = entry.default_value;
+      continue;
+    }
+    const auto it = std::find_if(body.shape.begin(), body.shape.end(),
+                                 [&](const ShapeParameter& p) { return p.name == entry.name; });
+    if (it == body.shape.end())
+      bad("model '" + model.source + "' reads shape entry '" + entry.name + "', which body '" + body.source +
+          "' does not have");
+    beta[i] = static_cast<float>(it->value);
+  }
+  return beta;
+}
+
+}  // namespace
+
+struct Instance::State {
+  std::shared_ptr<const Model> model;
+  std::shared_ptr<const Garment> garment;
+  int32_t n = 0, joints = 0, window = 0, top_k = 0, max_batch = 0;
+  Index code = 0;
+
+  Skeleton skeleton;                   // the body's, in the body's joint order (poses come in it)
+  std::vector<int32_t> body_of_model;  // model joint -> body joint
+  Transforms rest_global;              // body order
+  FrameFeatures features;              // pose -> network inputs (frame_features.h)
+  nn::AttentionGraph graph;
+  MatrixRM fused_static;  // N x C: G ⊙ b, pose-independent part of F^t
+  MatrixRM prior;         // N x S: skinning_prior * log(w_body + floor); empty without a prior
+  MatrixRM rest;          // N x 3: T̄
+
+  nn::SerialExecutor serial;
+  std::unique_ptr<nn::ThreadPool> pool;
+  nn::Executor* executor = nullptr;
+
+  // Per-frame workspaces (sized at bind; evaluate never grows them).
+  Quaternions pose;          // S, body order
+  Transforms pose_global;    // S, body order
+  SkinMatrices matrices;     // S, body order
+  MatrixRM skin;             // S x 12 float [R | t] rows, model order
+  MatrixRM joint_positions;  // S x 3 posed joints, model order
+  MatrixRM window_x;         // window x motion input (one frame's window)
+  nn::GruWorkspace gru;
+  MatrixRM motion_code;    // 1 x C: q^t
+  MatrixRM fused;          // N x C
+  MatrixRM logits;         // N x S
+  MatrixRM offsets;        // N x 3: blend shapes or refinement
+  MatrixRM shaped;         // N x 3: T^t
+  MatrixRM skinned[2];     // N x 3: M̃ of the current and the previous frame
+  MatrixRM normals;        // N x 3
+  MatrixRM refinement_in;  // N x refinement input
+  StackBuffers stacks;
+  std::vector<int32_t> chosen_joint;  // max_batch x N x k (model joints)
+  std::vector<float> chosen_weight;   // max_batch x N x k
+  MatrixRM staged;                    // max_batch x (N * 3): positions of the batch
+  BandSplitScratch<float> band_scratch;
+
+  void bind(const Body& body, const InstanceOptions& options);
+  void check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const;
+  void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
+                  int32_t* joints_out);
+  void refine_frame(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot, float* out);
+  void write_batch(const PoseSequence& poses, int64_t first_in_call, int64_t begin, int64_t count,
+                   const EvaluateOutputs& outputs);
+};
+
+void Instance::State::bind(const Body& body, const InstanceOptions& options) {
+  const Model& m = *model;
+  const Garment& g = *garment;
+  n = g.rest.vertex_count();
+  joints = m.joint_count();
+  window = m.window_frames;
+  code = m.code_width();
+  if (options.threads < 1 || options.threads > 256)
+    bad("instance threads is " + std::to_string(options.threads) + ", expected 1..256");
+  if (options.max_batch < 1 || options.max_batch > 4096)
+    bad("instance max_batch is " + std::to_string(options.max_batch) + ", expected 1..4096");
+  if (options.top_k < 0) bad("instance top_k is " + std::to_string(options.top_k) + ", expected >= 0");
+  top_k = std::min(options.top_k > 0 ? options.top_k : m.default_top_k, joints);
+  max_batch = options.max_batch;
+
+  body_of_model = map_joints(m, body.skeleton, body.source);
+  skeleton = body.skeleton;
+  rest_global = rest_transforms(skeleton);
+  features = FrameFeatures(m, skeleton, body_of_model);
+
+  // Rest joints J(β) in model order, the root's rest position.
+  Points3d rest_joints(joints, 3);
+  for (int32_t j = 0; j < joints; ++j)
+    rest_joints.row(j) = rest_global[body_of_model[j]].translation().transpose();
+
+  // Body code b: per body vertex [β | distances to J(β)], MLP, [mean | max], pool.
+  const RowVector beta = shape_vector(m, body);
+  const int32_t nb = body.vertex_count();
+  MatrixRM body_x(nb, m.body_encoder.in_width());
+  for (int32_t v = 0; v < nb; ++v) {
+    Index col = 0;
+    for (Feature f : m.body_features) {
+      if (f == Feature::shape) {
+        body_x.row(v).segment(col, beta.size()) = beta;
+        col += beta.size();
+      } else {  // rest_joint_distances
+        for (int32_t j = 0; j < joints; ++j)
+          body_x(v, col + j) = static_cast<float>((body.rest.vertices.row(v) - rest_joints.row(j)).norm());
+        col += joints;
+      }
+    }
+  }
+  normalize_rows(m.body_normalization, body_x, 0, nb);
+  MatrixRM body_h(nb, m.body_encoder.out_width());
+  nn::MlpWorkspace mlp_workspace;
+  mlp_workspace.reserve(m.body_encoder, nb);
+  nn::mlp_forward(m.body_encoder, body_x, body_h, mlp_workspace);
+  MatrixRM pooled(1, 2 * body_h.cols());
+  pooled.leftCols(body_h.cols()) = body_h.colwise().mean();
+  pooled.rightCols(body_h.cols()) = body_h.colwise().maxCoeff();
+  MatrixRM body_code(1, code);
+  nn::dense_forward(m.body_pool, pooled, m.body_pool_activation, body_code);
+
+  // Garment encoder G on the rest garment, fused with b.
+  graph = nn::attention_graph(g.graph);
+  rest = g.rest.vertices.cast<float>();
+  MatrixRM garment_x(n, m.garment_encoder.in_width());
+  features.rest_garment(g, rest_joints, garment_x);
+  normalize_rows(m.garment_encoder.normalization, garment_x, 0, n);
+  stacks.reserve(m.garment_encoder, graph);
+  fused_static.resize(n, code);
+  run_stack(m.garment_encoder, graph, garment_x, fused_static, stacks, serial);
+  fused_static.array().rowwise() *= body_code.row(0).array();
+
+  // Skinning prior: the weights of the nearest rest body vertex.
+  if (m.skinning_prior > 0.0f) {
+    const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, g.rest.vertices);
+    std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
+    for (int32_t j = 0; j < joints; ++j) model_of_body[body_of_model[j]] = j;
+    prior = MatrixRM::Zero(n, joints);
+    for (int32_t v = 0; v < n; ++v) {
+      const int32_t b = nearest[v];
+      for (int32_t k = body.weights.offsets[b]; k < body.weights.offsets[b + 1]; ++k)
+        prior(v, model_of_body[body.weights.joints[k]]) = static_cast<float>(body.weights.weights[k]);
+    }
+    prior = m.skinning_prior * (prior.array() + kPriorFloor).log();
+  }
+
+  if (options.threads > 1) pool = std::make_unique<nn::ThreadPool>(options.threads);
+  executor = pool ? static_cast<nn::Executor*>(pool.get()) : &serial;
+
+  // Workspaces.
+  pose.resize(static_cast<size_t>(joints));
+  pose_global.resize(static_cast<size_t>(joints));
+  matrices.resize(static_cast<size_t>(joints));
+  skin.resize(joints, 12);
+  joint_positions.resize(joints, 3);
+  window_x.resize(window, m.motion_encoder.input_width());
+  gru.reserve(m.motion_encoder, 1);
+  motion_code.resize(1, code);
+  fused.resize(n, code);
+  logits.resize(n, joints);
+  offsets.resize(n, 3);
+  shaped.resize(n, 3);
+  skinned[0].resize(n, 3);
+  skinned[1].resize(n, 3);
+  normals.resize(n, 3);
+  refinement_in.resize(n, m.refinement.in_width());
+  stacks.reserve(m.blend, graph);
+  stacks.reserve(m.refinement, graph);
+  const size_t chosen = static_cast<size_t>(max_batch) * static_cast<size_t>(n) * static_cast<size_t>(top_k);
+  chosen_joint.resize(chosen);
+  chosen_weight.resize(chosen);
+  staged.resize(max_batch, static_cast<Index>(n) * 3);
+  if (g.prepared) {
+    // One split of a full batch grows the scratch to its final size.
+    MatrixRM probe = MatrixRM::Zero(max_batch, static_cast<Index>(n) * 3);
+    MatrixRM sink(max_batch, static_cast<Index>(n) * 3);
+    split_bands(g.prepared->bands, probe.data(), static_cast<size_t>(max_batch), static_cast<size_t>(n) * 3,
+                sink.data(), static_cast<size_t>(n) * 3, static_cast<float*>(nullptr), 0,
+                static_cast<float*>(nullptr), 0, &band_scratch);
+  }
+}
+
+void Instance::State::check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const {
+  for (int64_t f = begin; f < end; ++f) {
+    for (int32_t j = 0; j < joints; ++j) {
+      const float* q = poses.rotations + (f * joints + j) * 4;
+      const double norm =
+          std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
+      if (!std::isfinite(norm) || std::abs(norm - 1.0) > kUnitTolerance)
+        bad("poses frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" + skeleton.names[j] +
+            "': rotation is not a unit quaternion (norm " + std::to_string(norm) + ")");
+    }
+    for (int k = 0; k < 3; ++k) {
+      const float x = poses.root_positions[f * 3 + k];
+      if (!std::isfinite(x) || std::abs(x) > kMaxCoordinate)
+        bad("poses frame " + std::to_string(f) + ": root position is not finite or beyond " +
+            std::to_string(kMaxCoordinate) + " m");
+    }
+  }
+}
+
+// M̃ of frame t into skinned[slot]: motion code, fusion, skinning weights
+// (top k written to weights_out / joints_out, N x k), blend shapes (stage
+// >= blend_shapes), LBS.
+void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot,
+                                 float* weights_out, int32_t* joints_out) {
+  const Model& m = *model;
+  features.motion_window(poses, t, window_x);
+  normalize_rows(m.motion_normalization, window_x, 0, window);
+  // One frame's window at a time: a batch of windows would change the GEMM
+  // shapes and with them the rounding, and results must not depend on batching.
+  nn::gru_window(m.motion_encoder, window_x, window, motion_code, gru);
+  features.skinning_matrices(poses, t, pose, pose_global, rest_global, matrices, skin, joint_positions);
+
+  const int32_t k = top_k;
+  const bool blend = stage != Stage::skinning;
+  for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
+    const Index rows = end - begin;
+    fused.middleRows(begin, rows) =
+        fused_static.middleRows(begin, rows).array().rowwise() * motion_code.row(0).array();
+    auto l = logits.middleRows(begin, rows);
+    l.noalias() = fused.middleRows(begin, rows) * m.skinning.weight;
+    if (m.skinning.bias.size() != 0) l.rowwise() += m.skinning.bias;
+    if (prior.size() != 0) l += prior.middleRows(begin, rows);
+    for (int32_t v = begin; v < end; ++v)
+      top_k_softmax(logits.row(v).data(), joints, k, weights_out + static_cast<size_t>(v) * k,
+                    joints_out + static_cast<size_t>(v) * k);
+  });
+  if (blend) run_stack(m.blend, graph, fused, offsets, stacks, *executor);
+  MatrixRM& out = skinned[slot];
+  for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
+    for (int32_t v = begin; v < end; ++v) {
+      float x = rest(v, 0), y = rest(v, 1), z = rest(v, 2);
+      if (blend) {
+        x += m.blend_scale * offsets(v, 0);
+        y += m.blend_scale * offsets(v, 1);
+        z += m.blend_scale * offsets(v, 2);
+      }
+      float px = 0.0f, py = 0.0f, pz = 0.0f;
+      for (int32_t i = 0; i < k; ++i) {
+        const float w = weights_out[static_cast<size_t>(v) * k + i];
+        const float* s = skin.row(joints_out[static_cast<size_t>(v) * k + i]).data();
+        px += w * (s[0] * x + s[1] * y + s[2] * z + s[3]);
+        py += w * (s[4] * x + s[5] * y + s[6] * z + s[7]);
+        pz += w * (s[8] * x + s[9] * y + s[10] * z + s[11]);
+      }
+      out(v, 0) = px;
+      out(v, 1) = py;
+      out(v, 2) = pz;
+    }
+  });
+}
+
+// M^t = M̃^t + refinement_scale * H_t Δ^t into `out` (N x 3), from
+// skinned[slot] and the previous frame's M̃ (null: the clip's first frame,
+// velocity 0).
+void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
+                                   float* out) {
+  const Model& m = *model;
+  const MatrixRM& current = skinned[slot];
+  vertex_normals(current.data(), n, garment->rest.triangles, normals.data());
+  // skin_frame left frame t's posed joints in joint_positions.
+  const Eigen::Matrix3f heading = features.heading(poses, t).cast<float>();
+  const float fps = static_cast<float>(m.frame_rate);
+  for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
+    for (int32_t v = begin; v < end; ++v) {
+      Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
+      if (previous != nullptr) velocity = (current.row(v) - previous->row(v)).transpose() * fps;
+      features.refinement_row(m.refinement.features, heading, velocity, normals.row(v).transpose(),
+                              current.row(v).transpose(), joint_positions, refinement_in.row(v).data());
+    }
+    normalize_rows(m.refinement.normalization, refinement_in, begin, end);
+  });
+  run_stack(m.refinement, graph, refinement_in, offsets, stacks, *executor);
+  for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
+    for (int32_t v = begin; v < end; ++v) {
+      const Eigen::Vector3f delta = heading * offsets.row(v).transpose();
+      for (int c = 0; c < 3; ++c) out[v * 3 + c] = current(v, c) + m.refinement_scale * delta[c];
+    }
+  });
+}
+
+void Instance::State::write_batch(const PoseSequence&, int64_t first_in_call, int64_t begin, int64_t count,
+                                  const EvaluateOutputs& outputs) {
+  const size_t frame_floats = static_cast<size_t>(n) * 3;
+  for (int64_t b = 0; b < count; ++b) {
+    const float* x = staged.row(b).data();
+    for (size_t i = 0; i < frame_floats; ++i)
+      if (!std::isfinite(x[i]))
+        fail(PLEAT_ERROR_NUMERICAL, "model '" + model->source + "' gave a non-finite position at frame " +
+                                        std::to_string(begin + b) + " vertex " + std::to_string(i / 3) +
+                                        " (frames before it were written)");
+  }
+  for (int64_t b = 0; b < count; ++b) {
+    const size_t at = static_cast<size_t>(begin + b - first_in_call);
+    const float* x = staged.row(b).data();
+    if (outputs.positions.data)
+      std::copy(x, x + frame_floats, outputs.positions.data + at * outputs.positions.stride);
+    if (outputs.normals.data)
+      vertex_normals(x, n, garment->rest.triangles, outputs.normals.data + at * outputs.normals.stride);
+    if (outputs.skinning_weights.data) {
+      float* w = outputs.skinning_weights.data + at * outputs.skinning_weights.stride;
+      std::fill(w, w + static_cast<size_t>(n) * joints, 0.0f);
+      const size_t base = static_cast<size_t>(b) * n * top_k;
+      for (int32_t v = 0; v < n; ++v)
+        for (int32_t i = 0; i < top_k; ++i)
+          w[static_cast<size_t>(v) * joints + chosen_joint[base + v * top_k + i]] =
+              chosen_weight[base + v * top_k + i];
+    }
+  }
+  if (outputs.low.data || outputs.mid.data || outputs.high.data) {
+    const size_t at = static_cast<size_t>(begin - first_in_call);
+    const auto band = [&](const OutputBuffer& o) { return o.data ? o.data + at * o.stride : nullptr; };
+    split_bands(garment->prepared->bands, staged.data(), static_cast<size_t>(count), frame_floats,
+                band(outputs.low), outputs.low.stride, band(outputs.mid), outputs.mid.stride,
+                band(outputs.high), outputs.high.stride, &band_scratch);
+  }
+}
+
+Instance::Instance(std::shared_ptr<const Model> model, std::shared_ptr<const Garment> garment,
+                   const Body& body, const InstanceOptions& options)
+    : state_(std::make_unique<State>()) {
+  if (!model || !garment) bad("instance needs a model and a garment");
+  state_->model = std::move(model);
+  state_->garment = std::move(garment);
+  state_->bind(body, options);
+}
+
+Instance::~Instance() = default;
+
+void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
+                        const EvaluateOutputs& outputs) {
+  State& s = *state_;
+  const Model& m = *s.model;
+  if (stage != Stage::skinning && stage != Stage::blend_shapes && stage != Stage::refinement)
+    bad("evaluate: unknown stage " + std::to_string(static_cast<int32_t>(stage)));
+  if (poses.joint_count != s.joints)
+    bad("poses have " + std::to_string(poses.joint_count) + " joints per frame, the bound body has " +
+        std::to_string(s.joints));
+  if (!(std::abs(poses.frame_rate - m.frame_rate) <= 1e-6 * m.frame_rate))
+    bad("poses come at " + std::to_string(poses.frame_rate) + " fps, model '" + m.source + "' runs at " +
+        std::to_string(m.frame_rate) + " fps (resample the motion with pleat_motion_resample)");
+  if (first < 0 || count < 0 || first > poses.frame_count || count > poses.frame_count - first)
+    bad("frames [" + std::to_string(first) + ", " + std::to_string(first + count) + ") are outside the " +
+        std::to_string(poses.frame_count) + " frames of the poses");
+  if (count == 0) return;
+  if (!poses.rotations || !poses.root_positions) bad("poses rotations and root_positions must not be null");
+  if ((outputs.low.data || outputs.mid.data || outputs.high.data) && !s.garment->prepared)
+    fail(PLEAT_ERROR_NOT_PREPARED,
+         "band outputs need a prepared garment (pleat_garment_prepare before binding)");
+  const size_t frame_floats = static_cast<size_t>(s.n) * 3;
+  for (const OutputBuffer* o :
+       {&outputs.positions, &outputs.normals, &outputs.low, &outputs.mid, &outputs.high})
+    if (o->data && o->stride < frame_floats)
+      bad("an output's stride is below the " + std::to_string(frame_floats) + " floats of a frame");
+  if (outputs.skinning_weights.data && outputs.skinning_weights.stride < static_cast<size_t>(s.n) * s.joints)
+    bad("the skinning weights' stride is below the N x S floats of a frame");
+
+  // History: the motion window of the first frame (and, for the refinement's
+  // velocity, of the frame before it) reaches back window frames.
+  const int64_t history = stage == Stage::refinement ? s.window + 1 : s.window;
+  s.check_poses(poses, std::max<int64_t>(0, first - history), first + count);
+
+  const SingleThreadedBlas blas;  // one BLAS thread: the instance's pool owns the cores
+  const bool refine = stage == Stage::refinement;
+  const size_t k = static_cast<size_t>(s.top_k);
+  int previous_slot = -1;  // skinned[] slot holding M̃ of the frame before, once known
+  // The frame before the call's first one: its M̃ is needed for velocities.
+  if (refine && first > 0) {
+    s.skin_frame(poses, first - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
+    previous_slot = 1;
+  }
+  for (int64_t begin = first; begin < first + count; begin += s.max_batch) {
+    const int64_t batch = std::min<int64_t>(s.max_batch, first + count - begin);
+    for (int64_t b = 0; b < batch; ++b) {
+      const int64_t t = begin + b;
+      const int slot = previous_slot == 0 ? 1 : 0;
+      const size_t chosen = static_cast<size_t>(b) * static_cast<size_t>(s.n) * k;
+      s.skin_frame(poses, t, stage, slot, s.chosen_weight.data() + chosen, s.chosen_joint.data() + chosen);
+      float* staged = s.staged.row(b).data();
+      if (refine) {
+        s.refine_frame(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot, staged);
+      } else {
+        std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);
+      }
+      previous_slot = slot;
+    }
+    s.write_batch(poses, first, begin, batch, outputs);
+  }
+}
+
+int32_t Instance::vertex_count() const {
+  return state_->n;
+}
+int32_t Instance::joint_count() const {
+  return state_->joints;
+}
+int32_t Instance::top_k() const {
+  return state_->top_k;
+}
+int32_t Instance::max_batch() const {
+  return state_->max_batch;
+}
+const Model& Instance::model() const {
+  return *state_->model;
+}
+
+}  // namespace pleat::runtime

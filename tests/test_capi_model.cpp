@@ -1,0 +1,369 @@
+// Models and instances through the C API, as a host uses them: initialise a
+// model for a skeleton, save and load it, bind it to a garment and a body,
+// evaluate frames. Values are checked where the answer is known whatever the
+// weights: in the rest pose, and under a motion that moves every joint
+// alike, linear blend skinning with any convex weights is exact.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "capi/pleat.h"
+#include "support/capi_support.h"
+
+namespace {
+
+using BodyPtr = std::unique_ptr<pleat_body, decltype(&pleat_body_destroy)>;
+using ModelPtr = std::unique_ptr<pleat_model, decltype(&pleat_model_destroy)>;
+using InstancePtr = std::unique_ptr<pleat_instance, decltype(&pleat_instance_destroy)>;
+
+constexpr uint32_t kJoints = 3;
+const float kJointPositions[kJoints * 3] = {0.0f, 1.0f, 0.0f, 0.0f, 1.3f, 0.0f, 0.3f, 1.4f, 0.0f};
+
+// A three-joint chain (hips -> spine -> arm) skinning a small quad strip.
+BodyPtr chain_body(const char* arm_name = "arm") {
+  const char* names[kJoints] = {"hips", "spine", arm_name};
+  const int32_t parents[kJoints] = {-1, 0, 1};
+  const pleat_test::SimpleMesh mesh = pleat_test::grid(3, 4, 0.2f, Eigen::Vector3f(-0.2f, 0.8f, 0.1f));
+  std::vector<uint32_t> joints;
+  std::vector<float> weights;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const float y = mesh.positions[v * 3 + 1];
+    const float upper = std::min(1.0f, std::max(0.0f, (y - 0.9f) / 0.4f));
+    joints.insert(joints.end(), {0u, 1u});
+    weights.insert(weights.end(), {1.0f - upper, upper});
+  }
+  pleat_body_desc d{};
+  d.struct_size = sizeof d;
+  d.joint_count = kJoints;
+  d.joint_names = names;
+  d.parents = parents;
+  d.joint_positions = kJointPositions;
+  d.vertex_count = mesh.vertex_count();
+  d.positions = mesh.positions.data();
+  d.triangle_count = mesh.triangle_count();
+  d.triangles = mesh.triangles.data();
+  d.influences = 2;
+  d.weight_joints = joints.data();
+  d.weights = weights.data();
+  pleat_body* b = nullptr;
+  EXPECT_EQ(pleat_body_create(&d, &b), PLEAT_OK) << pleat_last_error();
+  return BodyPtr(b, pleat_body_destroy);
+}
+
+// A garment around the chain: a 5 x 6 grid in front of the body.
+pleat_test::SimpleMesh garment_mesh() {
+  return pleat_test::grid(5, 6, 0.1f, Eigen::Vector3f(-0.2f, 0.8f, 0.15f));
+}
+
+ModelPtr initialised(const pleat_body* body, uint32_t variant = 0, uint32_t window = 0, double fps = 0) {
+  pleat_model_init_options o{};
+  o.struct_size = sizeof o;
+  o.variant = variant;
+  o.window_frames = window;
+  o.frame_rate = fps;
+  o.seed = 7;
+  pleat_model* m = nullptr;
+  EXPECT_EQ(pleat_model_initialize(body, &o, &m), PLEAT_OK) << pleat_last_error();
+  return ModelPtr(m, pleat_model_destroy);
+}
+
+pleat_model_info info_of(const pleat_model* model) {
+  pleat_model_info info{};
+  info.struct_size = sizeof info;
+  EXPECT_EQ(pleat_model_get_info(model, &info), PLEAT_OK) << pleat_last_error();
+  return info;
+}
+
+InstancePtr bind(const pleat_model* model, const pleat_garment* garment, const pleat_body* body,
+                 uint32_t threads = 0, uint32_t max_batch = 0) {
+  pleat_instance_options o{};
+  o.struct_size = sizeof o;
+  o.threads = threads;
+  o.max_batch = max_batch;
+  pleat_instance* in = nullptr;
+  EXPECT_EQ(pleat_instance_create(model, garment, body, &o, &in), PLEAT_OK) << pleat_last_error();
+  return InstancePtr(in, pleat_instance_destroy);
+}
+
+// Frames of poses: every joint rotation is `rotation` (x, y, z, w) for the
+// root and identity for the others; the root moves by `step` per frame.
+struct Poses {
+  std::vector<float> rotations, roots;
+  pleat_poses view(double fps = 30.0) const {
+    pleat_poses p{};
+    p.struct_size = sizeof p;
+    p.joint_count = kJoints;
+    p.frame_count = roots.size() / 3;
+    p.rotations = rotations.data();
+    p.root_positions = roots.data();
+    p.frame_rate = fps;
+    return p;
+  }
+};
+
+Poses root_motion(size_t frames, const float step[3], const float root_rotation[4]) {
+  Poses p;
+  for (size_t f = 0; f < frames; ++f) {
+    for (uint32_t j = 0; j < kJoints; ++j) {
+      if (j == 0)
+        p.rotations.insert(p.rotations.end(), root_rotation, root_rotation + 4);
+      else
+        p.rotations.insert(p.rotations.end(), {0.0f, 0.0f, 0.0f, 1.0f});
+    }
+    for (int k = 0; k < 3; ++k) p.roots.push_back(kJointPositions[k] + step[k] * static_cast<float>(f));
+  }
+  return p;
+}
+
+std::vector<float> evaluate(pleat_instance* instance, const Poses& poses, size_t first, size_t count,
+                            uint32_t stage, std::vector<float>* weights = nullptr) {
+  pleat_instance_info info{};
+  info.struct_size = sizeof info;
+  EXPECT_EQ(pleat_instance_get_info(instance, &info), PLEAT_OK);
+  std::vector<float> positions(count * info.vertex_count * 3, -1.0f);
+  pleat_evaluate_options o{};
+  o.struct_size = sizeof o;
+  o.stage = stage;
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.positions = {positions.data(), 0};
+  if (weights) {
+    weights->assign(count * info.vertex_count * kJoints, -1.0f);
+    out.skinning_weights = {weights->data(), 0};
+  }
+  const pleat_poses p = poses.view();
+  EXPECT_EQ(pleat_instance_evaluate(instance, &p, first, count, &o, &out), PLEAT_OK) << pleat_last_error();
+  return positions;
+}
+
+std::vector<char> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+const float kIdentity[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+const float kStill[3] = {0.0f, 0.0f, 0.0f};
+
+}  // namespace
+
+TEST(CapiModel, InitialisedModelDescribesItselfAndRoundTripsThroughAFile) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  const pleat_model_info info = info_of(model.get());
+  EXPECT_EQ(info.joint_count, kJoints);
+  EXPECT_EQ(info.shape_count, 0u);
+  EXPECT_EQ(info.window_frames, 8u);
+  EXPECT_EQ(info.variant, static_cast<uint32_t>(PLEAT_VARIANT_FLEXIGAT));
+  EXPECT_EQ(info.code_width, 128u);
+  EXPECT_EQ(info.default_top_k, 4u);
+  EXPECT_DOUBLE_EQ(info.frame_rate, 30.0);
+  EXPECT_GT(info.parameter_count, 100000u);
+  EXPECT_STREQ(pleat_model_joint_name(model.get(), 2), "arm");
+  EXPECT_EQ(pleat_model_joint_name(model.get(), 3), nullptr);
+  EXPECT_EQ(pleat_model_joint_name(nullptr, 0), nullptr);
+
+  const std::string dir = pleat_test::temp_dir("capi_model");
+  ASSERT_EQ(pleat_model_save(model.get(), (dir + "/a.pleat").c_str()), PLEAT_OK) << pleat_last_error();
+  pleat_model* loaded = nullptr;
+  ASSERT_EQ(pleat_model_load((dir + "/a.pleat").c_str(), &loaded), PLEAT_OK) << pleat_last_error();
+  ModelPtr again(loaded, pleat_model_destroy);
+  EXPECT_EQ(info_of(again.get()).parameter_count, info.parameter_count);
+  ASSERT_EQ(pleat_model_save(again.get(), (dir + "/b.pleat").c_str()), PLEAT_OK);
+  const std::vector<char> a = file_bytes(dir + "/a.pleat");
+  EXPECT_GT(a.size(), info.parameter_count * 4) << "float32 tensors";
+  EXPECT_EQ(a, file_bytes(dir + "/b.pleat")) << "load + save reproduces the file byte for byte";
+
+  ModelPtr gat = initialised(body.get(), PLEAT_VARIANT_GAT, 4, 60.0);
+  const pleat_model_info g = info_of(gat.get());
+  EXPECT_EQ(g.variant, static_cast<uint32_t>(PLEAT_VARIANT_GAT));
+  EXPECT_EQ(g.window_frames, 4u);
+  EXPECT_DOUBLE_EQ(g.frame_rate, 60.0);
+}
+
+TEST(CapiModel, RestPoseAndRigidMotionsAreExactAtTheSkinningStage) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  const pleat_test::SimpleMesh mesh = garment_mesh();
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(mesh);
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  pleat_instance_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(pleat_instance_get_info(instance.get(), &info), PLEAT_OK);
+  EXPECT_EQ(info.vertex_count, mesh.vertex_count());
+  EXPECT_EQ(info.joint_count, kJoints);
+  EXPECT_EQ(info.top_k, 3u) << "the default 4 is clamped to the joint count";
+  const size_t n = info.vertex_count;
+
+  // Rest pose: every skinning matrix is the identity.
+  std::vector<float> weights;
+  const std::vector<float> rest =
+      evaluate(instance.get(), root_motion(3, kStill, kIdentity), 0, 3, PLEAT_STAGE_SKINNING, &weights);
+  for (size_t i = 0; i < rest.size(); ++i) ASSERT_NEAR(rest[i], mesh.positions[i % (n * 3)], 1e-5f) << i;
+  for (size_t v = 0; v < 3 * n; ++v) {
+    float sum = 0.0f;
+    for (uint32_t j = 0; j < kJoints; ++j) {
+      EXPECT_GE(weights[v * kJoints + j], 0.0f);
+      sum += weights[v * kJoints + j];
+    }
+    EXPECT_NEAR(sum, 1.0f, 1e-5f) << "vertex " << v % n;
+  }
+
+  // The root walks along +x and turns 90 degrees about Y; the other joints
+  // keep their rest rotation, so every joint moves rigidly with the root.
+  const float step[3] = {0.05f, 0.0f, 0.02f};
+  const float s = std::sqrt(0.5f), turn[4] = {0.0f, s, 0.0f, s};
+  const Poses walk = root_motion(6, step, turn);
+  const std::vector<float> moved = evaluate(instance.get(), walk, 2, 4, PLEAT_STAGE_SKINNING);
+  for (size_t f = 0; f < 4; ++f)
+    for (size_t v = 0; v < n; ++v) {
+      const float* r = &walk.roots[(f + 2) * 3];
+      const float x = mesh.positions[v * 3] - kJointPositions[0],
+                  y = mesh.positions[v * 3 + 1] - kJointPositions[1],
+                  z = mesh.positions[v * 3 + 2] - kJointPositions[2];
+      // Rotation by 90 degrees about Y: (x, y, z) -> (z, y, -x).
+      const float expected[3] = {r[0] + z, r[1] + y, r[2] - x};
+      for (int k = 0; k < 3; ++k)
+        ASSERT_NEAR(moved[(f * n + v) * 3 + k], expected[k], 2e-5f) << "frame " << f << " vertex " << v;
+    }
+
+  // Later stages add learned offsets: finite, and different from skinning.
+  const std::vector<float> full = evaluate(instance.get(), walk, 2, 4, PLEAT_STAGE_FULL);
+  double difference = 0.0;
+  for (size_t i = 0; i < full.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(full[i]));
+    difference = std::max(difference, std::abs(double(full[i]) - moved[i]));
+  }
+  EXPECT_GT(difference, 0.0);
+}
+
+TEST(CapiModel, ResultsDependOnlyOnThePoses) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  const float step[3] = {0.03f, 0.01f, 0.0f};
+  const float tilt[4] = {0.0f, 0.0f, std::sin(0.1f), std::cos(0.1f)};
+  const Poses poses = root_motion(9, step, tilt);
+
+  InstancePtr one = bind(model.get(), garment.get(), body.get(), 1, 1);
+  const std::vector<float> reference = evaluate(one.get(), poses, 0, 9, PLEAT_STAGE_FULL);
+  InstancePtr two = bind(model.get(), garment.get(), body.get(), 2, 4);
+  EXPECT_EQ(evaluate(two.get(), poses, 0, 9, PLEAT_STAGE_FULL), reference) << "threads and batch size";
+  // Split calls, in any order, give the same frames.
+  const size_t n = reference.size() / 9;
+  std::vector<float> late = evaluate(two.get(), poses, 5, 4, PLEAT_STAGE_FULL);
+  std::vector<float> early = evaluate(two.get(), poses, 0, 5, PLEAT_STAGE_FULL);
+  early.insert(early.end(), late.begin(), late.end());
+  EXPECT_EQ(early, reference);
+  EXPECT_EQ(evaluate(one.get(), poses, 4, 1, PLEAT_STAGE_FULL),
+            std::vector<float>(reference.begin() + 4 * n, reference.begin() + 5 * n));
+
+  // The instance keeps model, garment and body alive.
+  model.reset();
+  garment.reset();
+  body.reset();
+  EXPECT_EQ(evaluate(two.get(), poses, 0, 9, PLEAT_STAGE_FULL), reference);
+}
+
+TEST(CapiModel, BandOutputsSplitThePositionsOfAPreparedGarment) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  const Poses poses = root_motion(2, kStill, kIdentity);
+  const pleat_poses p = poses.view();
+  const size_t n = garment_mesh().vertex_count();
+  std::vector<float> positions(2 * n * 3), low(2 * n * 3), mid(2 * n * 3), high(2 * n * 3);
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.positions = {positions.data(), 0};
+  out.low = {low.data(), 0};
+  out.mid = {mid.data(), 0};
+  out.high = {high.data(), 0};
+
+  InstancePtr unprepared = bind(model.get(), garment.get(), body.get());
+  EXPECT_EQ(pleat_instance_evaluate(unprepared.get(), &p, 0, 2, nullptr, &out), PLEAT_ERROR_NOT_PREPARED);
+  EXPECT_NE(std::string(pleat_last_error()).find("prepare"), std::string::npos) << pleat_last_error();
+
+  ASSERT_EQ(pleat_garment_prepare(garment.get(), nullptr), PLEAT_OK) << pleat_last_error();
+  InstancePtr prepared = bind(model.get(), garment.get(), body.get());
+  ASSERT_EQ(pleat_instance_evaluate(prepared.get(), &p, 0, 2, nullptr, &out), PLEAT_OK) << pleat_last_error();
+  double low_energy = 0.0, high_energy = 0.0;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    EXPECT_NEAR(low[i] + mid[i] + high[i], positions[i], 1e-5f) << i;
+    low_energy += double(low[i]) * low[i];
+    high_energy += double(high[i]) * high[i];
+  }
+  EXPECT_GT(low_energy, high_energy) << "a smooth garment lives mostly in the low band";
+}
+
+TEST(CapiModel, BadInputIsRefusedAndNamed) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  const std::string dir = pleat_test::temp_dir("capi_model_bad");
+
+  pleat_model* m = reinterpret_cast<pleat_model*>(0x1);
+  EXPECT_EQ(pleat_model_load((dir + "/missing.pleat").c_str(), &m), PLEAT_ERROR_IO);
+  EXPECT_NE(std::string(pleat_last_error()).find("missing.pleat"), std::string::npos) << pleat_last_error();
+  std::ofstream(dir + "/garbage.pleat") << "this is not a model file, not even close to one";
+  EXPECT_EQ(pleat_model_load((dir + "/garbage.pleat").c_str(), &m), PLEAT_ERROR_FORMAT);
+  EXPECT_EQ(m, reinterpret_cast<pleat_model*>(0x1)) << "outputs untouched on failure";
+  EXPECT_EQ(pleat_model_load(nullptr, &m), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(pleat_model_initialize(nullptr, nullptr, &m), PLEAT_ERROR_INVALID_ARGUMENT);
+  pleat_model_init_options bad_init{};
+  bad_init.struct_size = sizeof bad_init;
+  bad_init.variant = 9;
+  EXPECT_EQ(pleat_model_initialize(body.get(), &bad_init, &m), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("variant"), std::string::npos) << pleat_last_error();
+
+  // A body whose skeleton differs from the model's cannot drive it.
+  BodyPtr other = chain_body("hand");
+  pleat_instance* in = reinterpret_cast<pleat_instance*>(0x1);
+  EXPECT_EQ(pleat_instance_create(model.get(), garment.get(), other.get(), nullptr, &in),
+            PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("'arm'"), std::string::npos) << pleat_last_error();
+  EXPECT_EQ(in, reinterpret_cast<pleat_instance*>(0x1));
+  EXPECT_EQ(pleat_instance_create(model.get(), nullptr, body.get(), nullptr, &in),
+            PLEAT_ERROR_INVALID_ARGUMENT);
+
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  const Poses poses = root_motion(4, kStill, kIdentity);
+  const size_t n = garment_mesh().vertex_count();
+  std::vector<float> positions(4 * n * 3, 42.0f);
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.positions = {positions.data(), 0};
+  const auto refused = [&](const pleat_poses& p, size_t first, size_t count, const pleat_evaluate_options* o,
+                           pleat_status status, const std::string& part) {
+    EXPECT_EQ(pleat_instance_evaluate(instance.get(), &p, first, count, o, &out), status) << part;
+    EXPECT_NE(std::string(pleat_last_error()).find(part), std::string::npos) << pleat_last_error();
+  };
+  pleat_poses p = poses.view();
+  refused(p, 2, 3, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "outside the 4 frames");
+  p.joint_count = 2;
+  refused(p, 0, 1, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "joint");
+  p = poses.view(24.0);
+  refused(p, 0, 1, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "pleat_motion_resample");
+  Poses broken = poses;
+  broken.rotations[(2 * kJoints + 1) * 4 + 3] = NAN;
+  p = broken.view();
+  refused(p, 0, 4, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "frame 2");
+  p = poses.view();
+  pleat_evaluate_options stage{};
+  stage.struct_size = sizeof stage;
+  stage.stage = 17;
+  refused(p, 0, 1, &stage, PLEAT_ERROR_INVALID_ARGUMENT, "stage");
+  p.struct_size = 0;
+  refused(p, 0, 1, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "struct_size");
+  p = poses.view();
+  out.positions.frame_stride = 5;
+  refused(p, 0, 1, nullptr, PLEAT_ERROR_INVALID_ARGUMENT, "frame_stride");
+  for (float x : positions) ASSERT_EQ(x, 42.0f) << "nothing written by a refused call";
+  EXPECT_EQ(pleat_instance_evaluate(nullptr, &p, 0, 1, nullptr, &out), PLEAT_ERROR_INVALID_ARGUMENT);
+  pleat_instance_destroy(nullptr);
+  pleat_model_destroy(nullptr);
+}

@@ -1,0 +1,158 @@
+// `pleat init-model` and `pleat bake`: a model for a body's skeleton, and a
+// garment driven through a model by a motion, written as a point cache.
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "cli.h"
+
+namespace pleat_cli {
+namespace {
+
+using GarmentPtr = std::unique_ptr<pleat_garment, decltype(&pleat_garment_destroy)>;
+using InstancePtr = std::unique_ptr<pleat_instance, decltype(&pleat_instance_destroy)>;
+
+uint32_t variant_of(const std::string& name) {
+  if (name == "flexigat") return PLEAT_VARIANT_FLEXIGAT;
+  if (name == "gat") return PLEAT_VARIANT_GAT;
+  if (name == "lgat") return PLEAT_VARIANT_LGAT;
+  throw CliError{"--variant must be flexigat, gat or lgat, got '" + name + "'", 2};
+}
+
+const char* variant_name(uint32_t variant) {
+  switch (variant) {
+    case PLEAT_VARIANT_GAT: return "gat";
+    case PLEAT_VARIANT_LGAT: return "lgat";
+    default: return "flexigat";
+  }
+}
+
+uint32_t stage_of(const std::string& name) {
+  if (name == "full") return PLEAT_STAGE_FULL;
+  if (name == "skinning") return PLEAT_STAGE_SKINNING;
+  if (name == "blend-shapes") return PLEAT_STAGE_BLEND_SHAPES;
+  throw CliError{"--stage must be skinning, blend-shapes or full, got '" + name + "'", 2};
+}
+
+uint32_t count_option(const Args& args, const char* name, double max) {
+  const double v = args.number(name, 0.0);
+  if (v < 0 || v > max || v != static_cast<double>(static_cast<uint32_t>(v)))
+    throw CliError{std::string("--") + name + " expects a whole number in [0, " + std::to_string(max) + "]",
+                   2};
+  return static_cast<uint32_t>(v);
+}
+
+}  // namespace
+
+pleat_model_info model_info(const pleat_model* model) {
+  pleat_model_info info{};
+  info.struct_size = sizeof info;
+  check(pleat_model_get_info(model, &info), "reading the model");
+  return info;
+}
+
+void print_model_info(const pleat_model* model) {
+  const pleat_model_info i = model_info(model);
+  std::printf("format version      %u\n", i.format_version);
+  std::printf("variant             %s\n", variant_name(i.variant));
+  std::printf("joints              %u (%s ... %s)\n", i.joint_count, pleat_model_joint_name(model, 0),
+              pleat_model_joint_name(model, i.joint_count - 1));
+  std::printf("shape entries       %u\n", i.shape_count);
+  std::printf("window              %u frames at %g fps\n", i.window_frames, i.frame_rate);
+  std::printf("code width          %u\n", i.code_width);
+  std::printf("default top-k       %u\n", i.default_top_k);
+  std::printf("parameters          %llu\n", static_cast<unsigned long long>(i.parameter_count));
+}
+
+int run_init_model(const Args& args) {
+  if (!args.has("body") || !args.has("output"))
+    throw CliError{"needs --body (the skeleton the model drives) and -o model.pleat", 2};
+  BodyPtr body = load_body(args);
+  pleat_model_init_options o{};
+  o.struct_size = sizeof o;
+  o.variant = variant_of(args.get("variant", "flexigat"));
+  o.window_frames = count_option(args, "window", 256);
+  o.seed = static_cast<uint64_t>(count_option(args, "seed", 4294967295.0));
+  o.frame_rate = args.number("fps", 30.0);
+  pleat_model* m = nullptr;
+  check(pleat_model_initialize(body.get(), &o, &m), "initialising the model");
+  ModelPtr model(m, pleat_model_destroy);
+  check(pleat_model_save(model.get(), args.get("output").c_str()), "writing '" + args.get("output") + "'");
+  print_model_info(model.get());
+  std::printf("wrote %s\n", args.get("output").c_str());
+  return 0;
+}
+
+int run_bake(const Args& args) {
+  for (const char* needed : {"model", "garment", "body", "motion", "output"})
+    if (!args.has(needed))
+      throw CliError{"needs --model, --garment, --body, --motion and -o out.pc2|out.mdd|frame_####.obj", 2};
+  pleat_model* m = nullptr;
+  check(pleat_model_load(args.get("model").c_str(), &m), "loading the model '" + args.get("model") + "'");
+  ModelPtr model(m, pleat_model_destroy);
+  const pleat_model_info mi = model_info(model.get());
+
+  pleat_garment_load_options go{};
+  go.struct_size = sizeof go;
+  go.unit_scale = args.number("unit-scale", 0.0);
+  pleat_garment* g = nullptr;
+  check(pleat_garment_load(args.get("garment").c_str(), &go, &g),
+        "loading the garment '" + args.get("garment") + "'");
+  GarmentPtr garment(g, pleat_garment_destroy);
+
+  BodyPtr body = load_body(args);
+  MotionPtr motion = load_motion_for(args, body.get(), mi.frame_rate);
+  const FrameRange range = frame_range(args, motion.get(), mi.frame_rate);
+
+  pleat_instance_options io{};
+  io.struct_size = sizeof io;
+  io.threads = count_option(args, "threads", 256);
+  io.top_k = count_option(args, "top-k", 1 << 20);
+  io.max_batch = 16;
+  pleat_instance* in = nullptr;
+  check(pleat_instance_create(model.get(), garment.get(), body.get(), &io, &in), "binding the model");
+  InstancePtr instance(in, pleat_instance_destroy);
+  pleat_instance_info ii{};
+  ii.struct_size = sizeof ii;
+  check(pleat_instance_get_info(instance.get(), &ii), "reading the instance");
+
+  // Every frame from 0 up to the last one baked: earlier frames are the
+  // history the model's motion window and velocities look at.
+  const size_t frames_needed = range.first + range.count;
+  const size_t joints = ii.joint_count, n = ii.vertex_count;
+  std::vector<float> rotations(frames_needed * joints * 4), roots(frames_needed * 3);
+  check(pleat_motion_get_frames(motion.get(), 0, frames_needed, rotations.data(), rotations.size(),
+                                roots.data(), roots.size()),
+        "reading the motion's poses");
+  pleat_poses poses{};
+  poses.struct_size = sizeof poses;
+  poses.joint_count = static_cast<uint32_t>(joints);
+  poses.frame_count = frames_needed;
+  poses.rotations = rotations.data();
+  poses.root_positions = roots.data();
+  poses.frame_rate = mi.frame_rate;
+  pleat_evaluate_options eo{};
+  eo.struct_size = sizeof eo;
+  eo.stage = stage_of(args.get("stage", "full"));
+
+  std::vector<float> positions(range.count * n * 3);
+  const size_t chunk = 64;
+  for (size_t f = 0; f < range.count; f += chunk) {
+    const size_t c = std::min(chunk, range.count - f);
+    pleat_evaluate_outputs out{};
+    out.struct_size = sizeof out;
+    out.positions = {positions.data() + f * n * 3, 0};
+    check(pleat_instance_evaluate(instance.get(), &poses, range.first + f, c, &eo, &out),
+          "evaluating frames");
+    std::fprintf(stderr, "\rbaked %zu / %zu frames", f + c, range.count);
+  }
+  std::fprintf(stderr, "\n");
+  check(pleat_cache_write(args.get("output").c_str(), PLEAT_CACHE_AUTO, garment.get(), {positions.data(), 0},
+                          range.count, n, mi.frame_rate),
+        "writing '" + args.get("output") + "'");
+  std::printf("wrote %s: %zu frames of %zu vertices at %g fps\n", args.get("output").c_str(), range.count, n,
+              mi.frame_rate);
+  return 0;
+}
+
+}  // namespace pleat_cli
