@@ -76,14 +76,16 @@ struct StackBuffers {
   }
 };
 
-// in (N x stack input) -> out (N x 3 or code width) through every layer.
+// in (N x stack input) -> out (N x 3 or code width) through every layer;
+// `first` (if given) replaces the stack's first layer.
 void run_stack(const GraphStack& stack, const nn::AttentionGraph& graph, ConstMatrixRef in, MatrixRef out,
-               StackBuffers& buffers, nn::Executor& executor) {
+               StackBuffers& buffers, nn::Executor& executor,
+               const nn::GraphAttentionLayer* first = nullptr) {
   const Index n = graph.node_count();
   const float* source = in.data();
   Index source_stride = in.outerStride(), source_width = in.cols();
   for (size_t i = 0; i < stack.layers.size(); ++i) {
-    const nn::GraphAttentionLayer& layer = stack.layers[i];
+    const nn::GraphAttentionLayer& layer = i == 0 && first ? *first : stack.layers[i];
     const bool last = i + 1 == stack.layers.size();
     float* target = last ? out.data() : (i % 2 == 0 ? buffers.a.data() : buffers.b.data());
     const Index target_stride = last ? out.outerStride() : layer.out_width();
@@ -174,14 +176,18 @@ struct Instance::State {
   MatrixRM joint_positions;  // S x 3 posed joints, model order
   MatrixRM window_x;         // window x motion input (one frame's window)
   nn::GruWorkspace gru;
-  MatrixRM motion_code;    // 1 x C: q^t
-  MatrixRM fused;          // N x C
-  MatrixRM logits;         // N x S
-  MatrixRM offsets;        // N x 3: blend shapes or refinement
-  MatrixRM shaped;         // N x 3: T^t
-  MatrixRM skinned[2];     // N x 3: M̃ of the current and the previous frame
-  MatrixRM normals;        // N x 3
-  MatrixRM refinement_in;  // N x refinement input
+  MatrixRM motion_code;  // 1 x C: q^t
+  // F^t never exists: F^t W = (G ⊙ b) (diag(q^t) W), so each frame scales
+  // the rows of the skinning head and of the blend stack's first folded
+  // projection by q^t (C x S and C x (H d' + 2H) values) instead of N x C.
+  MatrixRM skinning_q;                  // C x S
+  nn::GraphAttentionLayer blend_first;  // model.blend.layers[0] with folded scaled by q^t
+  MatrixRM logits;                      // N x S
+  MatrixRM offsets;                     // N x 3: blend shapes or refinement
+  MatrixRM shaped;                      // N x 3: T^t
+  MatrixRM skinned[2];                  // N x 3: M̃ of the current and the previous frame
+  MatrixRM normals;                     // N x 3
+  MatrixRM refinement_in;               // N x refinement input
   StackBuffers stacks;
   std::vector<int32_t> chosen_joint;  // max_batch x N x k (model joints)
   std::vector<float> chosen_weight;   // max_batch x N x k
@@ -287,7 +293,8 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   window_x.resize(window, m.motion_encoder.input_width());
   gru.reserve(m.motion_encoder, 1);
   motion_code.resize(1, code);
-  fused.resize(n, code);
+  skinning_q.resize(code, joints);
+  blend_first = m.blend.layers.front();
   logits.resize(n, joints);
   offsets.resize(n, 3);
   shaped.resize(n, 3);
@@ -345,19 +352,20 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
 
   const int32_t k = top_k;
   const bool blend = stage != Stage::skinning;
+  const auto q = motion_code.row(0).transpose().array();
+  skinning_q = m.skinning.weight.array().colwise() * q;
+  if (blend) blend_first.folded = m.blend.layers.front().folded.array().colwise() * q;
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     const Index rows = end - begin;
-    fused.middleRows(begin, rows) =
-        fused_static.middleRows(begin, rows).array().rowwise() * motion_code.row(0).array();
     auto l = logits.middleRows(begin, rows);
-    l.noalias() = fused.middleRows(begin, rows) * m.skinning.weight;
+    l.noalias() = fused_static.middleRows(begin, rows) * skinning_q;
     if (m.skinning.bias.size() != 0) l.rowwise() += m.skinning.bias;
     if (prior.size() != 0) l += prior.middleRows(begin, rows);
     for (int32_t v = begin; v < end; ++v)
       top_k_softmax(logits.row(v).data(), joints, k, weights_out + static_cast<size_t>(v) * k,
                     joints_out + static_cast<size_t>(v) * k);
   });
-  if (blend) run_stack(m.blend, graph, fused, offsets, stacks, *executor);
+  if (blend) run_stack(m.blend, graph, fused_static, offsets, stacks, *executor, &blend_first);
   MatrixRM& out = skinned[slot];
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {

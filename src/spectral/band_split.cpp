@@ -22,25 +22,38 @@ void split_bands(const BandBasis<Scalar>& basis, const Scalar* positions, size_t
 
   // Gather all frames side by side (N x 3F, column-major) so the projection
   // is one GEMM for the batch instead of 3F thin matrix-vector products.
-  s.scaled.resize(n, cols);
+  // The scratch only grows: a smaller batch works in its leading columns,
+  // so a caller that sized it once (an Instance) never allocates here.
+  const Eigen::Index l = basis.low_count, m = basis.mid_count;
+  using Matrix = typename BandSplitScratch<Scalar>::Matrix;
+  const auto grow = [cols](Matrix& matrix, Eigen::Index rows) {
+    if (matrix.rows() != rows || matrix.cols() < cols) matrix.resize(rows, cols);
+  };
+  grow(s.scaled, n);
+  grow(s.coefficients, m);
+  grow(s.low, n);
+  grow(s.mid, n);
+  auto scaled = s.scaled.leftCols(cols);
+  auto coefficients = s.coefficients.leftCols(cols);
+  auto low_part = s.low.leftCols(cols);
+  auto mid_part = s.mid.leftCols(cols);
   for (size_t f = 0; f < frame_count; ++f) {
     const Frame x(positions + f * in_stride, n, 3);
     if (random_walk) {
-      s.scaled.middleCols(3 * f, 3) = basis.sqrt_degree.asDiagonal() * x;
+      scaled.middleCols(3 * f, 3) = basis.sqrt_degree.asDiagonal() * x;
     } else {
-      s.scaled.middleCols(3 * f, 3) = x;
+      scaled.middleCols(3 * f, 3) = x;
     }
   }
-  const Eigen::Index l = basis.low_count, m = basis.mid_count;
-  s.coefficients.noalias() = basis.vectors.transpose() * s.scaled;
+  coefficients.noalias() = basis.vectors.transpose() * scaled;
   // X^l = U_l C_l and X^m = U_(l..m) C_(l..m) (= U_m C_m - X^l): the rows of C
   // are shared, so low + mid cost one N x m x 3F product in total.
-  s.low.noalias() = basis.vectors.leftCols(l) * s.coefficients.topRows(l);
-  s.mid.noalias() = basis.vectors.middleCols(l, m - l) * s.coefficients.middleRows(l, m - l);
+  low_part.noalias() = basis.vectors.leftCols(l) * coefficients.topRows(l);
+  mid_part.noalias() = basis.vectors.middleCols(l, m - l) * coefficients.middleRows(l, m - l);
   for (size_t f = 0; f < frame_count; ++f) {
     const Frame x(positions + f * in_stride, n, 3);
-    auto xl = s.low.middleCols(3 * f, 3);
-    auto xm = s.mid.middleCols(3 * f, 3);
+    auto xl = low_part.middleCols(3 * f, 3);
+    auto xm = mid_part.middleCols(3 * f, 3);
     if (random_walk) {
       // Undo the D^{1/2} scaling: rows divided by sqrt_degree.
       xl = basis.sqrt_degree.cwiseInverse().asDiagonal() * xl;

@@ -7,7 +7,8 @@
 
 namespace pleat {
 
-// Reusable work memory for split_bands; grows to the largest call and is kept.
+// Reusable work memory for split_bands; grows to the largest call and is
+// kept (smaller calls use its leading columns and allocate nothing).
 template <typename Scalar>
 struct BandSplitScratch {
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;

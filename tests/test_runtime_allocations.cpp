@@ -1,0 +1,135 @@
+// evaluate() allocates nothing: this binary interposes the C allocator
+// (every operator new, Eigen matrix and std::vector ends there), and a bound
+// instance (two threads, every stage, every output, a prepared garment) must
+// not call it while it evaluates.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <vector>
+
+#include "body/body.h"
+#include "core/garment.h"
+#include "runtime/instance.h"
+#include "runtime/model_init.h"
+#include "spectral/bands.h"
+
+namespace {
+std::atomic<long> allocations{0};
+}
+
+// ASan brings its own allocator; the interposition only exists without it.
+#if !defined(__SANITIZE_ADDRESS__)
+extern "C" {
+void* __libc_malloc(size_t);
+void* __libc_calloc(size_t, size_t);
+void* __libc_realloc(void*, size_t);
+void* __libc_memalign(size_t, size_t);
+void* malloc(size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_malloc(size);
+}
+void* calloc(size_t count, size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_calloc(count, size);
+}
+void* realloc(void* p, size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_realloc(p, size);
+}
+void* aligned_alloc(size_t alignment, size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, size_t alignment, size_t size) {
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  *out = __libc_memalign(alignment, size);
+  return *out ? 0 : 12;  // ENOMEM
+}
+}
+#endif
+
+namespace {
+
+using namespace pleat;
+using namespace pleat::runtime;
+
+TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "the allocator cannot be interposed under AddressSanitizer (the Release build runs this)";
+#endif
+  Body body;
+  body.source = "chain";
+  body.skeleton.names = {"hips", "spine", "arm"};
+  body.skeleton.parents = {-1, 0, 1};
+  body.skeleton.rest_translation.resize(3, 3);
+  body.skeleton.rest_translation << 0, 1, 0, 0, 0.3, 0, 0.3, 0.1, 0;
+  body.skeleton.rest_rotation.assign(3, Eigen::Quaterniond::Identity());
+  body.rest.vertices.resize(3, 3);
+  body.rest.vertices << 0, 0.9, 0.1, 0, 1.3, 0.1, 0.3, 1.4, 0.1;
+  body.rest.triangles.resize(1, 3);
+  body.rest.triangles << 0, 1, 2;
+  body.weights.joint_count = 3;
+  body.weights.offsets = {0, 1, 2, 3};
+  body.weights.joints = {0, 1, 2};
+  body.weights.weights = {1, 1, 1};
+
+  // A 12 x 12 grid garment, prepared (bands), and a small model.
+  const int side = 12;
+  Points3d v(side * side, 3);
+  Triangles t(2 * (side - 1) * (side - 1), 3);
+  int k = 0;
+  for (int r = 0; r < side; ++r)
+    for (int c = 0; c < side; ++c) v.row(r * side + c) << -0.3 + 0.05 * c, 0.8 + 0.05 * r, 0.15;
+  for (int r = 0; r + 1 < side; ++r)
+    for (int c = 0; c + 1 < side; ++c) {
+      const int a = r * side + c;
+      t.row(k++) << a, a + 1, a + side;
+      t.row(k++) << a + 1, a + side + 1, a + side;
+    }
+  Garment g = build_garment(v, t, {}, "grid");
+  g.prepared.emplace();
+  g.prepared->bands = compute_band_basis(g.graph, BandOptions{}).cast<float>();
+  const auto garment = std::make_shared<const Garment>(std::move(g));
+  ModelInitOptions mo;
+  mo.code_width = 16;
+  mo.body_widths = {16};
+  mo.garment_widths = {16, 16};
+  const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, mo);
+
+  InstanceOptions io;
+  io.threads = 2;
+  io.max_batch = 4;
+  Instance instance(model, garment, body, io);
+  const int n = instance.vertex_count(), frames = 10;
+  std::vector<float> rotations, roots;
+  for (int f = 0; f < frames; ++f) {
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Quaternionf q(Eigen::AngleAxisf(0.1f * f * (j + 1), Eigen::Vector3f::UnitZ()));
+      rotations.insert(rotations.end(), {q.x(), q.y(), q.z(), q.w()});
+    }
+    roots.insert(roots.end(), {0.02f * f, 1.0f, 0.0f});
+  }
+  const PoseSequence poses{rotations.data(), roots.data(), frames, 3, 30.0};
+  std::vector<float> positions(frames * n * 3), normals(positions.size()), low(positions.size()),
+      mid(positions.size()), high(positions.size()), weights(frames * n * 3);
+  EvaluateOutputs out;
+  out.positions = {positions.data(), size_t(n) * 3};
+  out.normals = {normals.data(), size_t(n) * 3};
+  out.skinning_weights = {weights.data(), size_t(n) * 3};
+  out.low = {low.data(), size_t(n) * 3};
+  out.mid = {mid.data(), size_t(n) * 3};
+  out.high = {high.data(), size_t(n) * 3};
+
+  for (Stage stage : {Stage::skinning, Stage::blend_shapes, Stage::refinement}) {
+    const long before = allocations.load();
+    instance.evaluate(poses, 3, frames - 3, stage, out);
+    EXPECT_EQ(allocations.load() - before, 0) << "stage " << int(stage);
+  }
+  // The counter works: binding allocates.
+  const long before = allocations.load();
+  Instance another(model, garment, body, io);
+  EXPECT_GT(allocations.load() - before, 10);
+}
+
+}  // namespace
