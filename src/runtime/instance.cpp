@@ -462,6 +462,10 @@ Instance::Instance(std::shared_ptr<const Model> model, std::shared_ptr<const Gar
   if (!model || !garment) bad("instance needs a model and a garment");
   state_->model = std::move(model);
   state_->garment = std::move(garment);
+  // Bind-time products run on one BLAS thread as evaluate's do: OpenBLAS's
+  // threaded GEMM rounds differently, and the cached codes must not depend on
+  // what other threads happen to be doing.
+  const SingleThreadedBlas blas;
   state_->bind(body, options);
 }
 
