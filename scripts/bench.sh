@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds pleat and runs the benchmarks; prints the machine, the date and the
-# medians that docs/benchmarks.md records. Benchmarks are not tests: run them
+# medians that docs/benchmarks.md records (bench_nn, the kernels alone, runs
+# separately). Benchmarks are not tests: run them
 # on a quiet machine. Arguments go to bench_spectral (e.g. --quick).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -12,4 +13,5 @@ garments="$root/../shared/data/garments"
 "$root/build/bench/bench_spectral" "$@" \
   "$garments/female_casualsuit02/female_casualsuit02.obj" "$garments/male_elegantsuit01/male_elegantsuit01.obj"
 "$root/build/bench/bench_metrics"
+"$root/build/bench/bench_runtime" "$root/../shared/data"
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)"
