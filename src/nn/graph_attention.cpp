@@ -19,80 +19,85 @@ const char* variant_name(AttentionVariant v) {
   return "?";
 }
 
-using Packet = Eigen::Array<float, 4, 1>;
-using ConstPacketMap = Eigen::Map<const Packet>;
+template <typename Scalar>
+using Packet = Eigen::Array<Scalar, 4, 1>;
+template <typename Scalar>
+using ConstPacketMap = Eigen::Map<const Packet<Scalar>>;
 
 // The weighted sum of one destination row when d' is a multiple of 4: the
-// row is walked in blocks of four 4-float vectors held in registers across
+// row is walked in blocks of four 4-Scalar vectors held in registers across
 // all edges (no load/store of the output per edge). Same operation order per
 // element as the scalar path: edges in CSR order (heads in order within an
 // edge for mean), then the self term, then the bias.
-template <bool kConcat>
-inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb, const float* z,
-                               Index zstride, const float* zi, const float* a,
-                               const float* neighbour_coefficient, const float* self_coefficient,
-                               const float* bias, float* row) {
+template <typename Scalar, bool kConcat>
+inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb, const Scalar* z,
+                               Index zstride, const Scalar* zi, const Scalar* a,
+                               const Scalar* neighbour_coefficient, const Scalar* self_coefficient,
+                               const Scalar* bias, Scalar* row) {
   const Index out_vectors = (kConcat ? heads * d : d) / 4;
   // Column offset in z and head of output vector u (concat: head = col / d;
   // mean: every head contributes, offset h*d added below).
   Index v = 0;
   for (; v + 4 <= out_vectors; v += 4) {
-    Packet acc[4] = {Packet::Zero(), Packet::Zero(), Packet::Zero(), Packet::Zero()};
+    Packet<Scalar> acc[4] = {Packet<Scalar>::Zero(), Packet<Scalar>::Zero(), Packet<Scalar>::Zero(),
+                             Packet<Scalar>::Zero()};
     int32_t head[4];
     for (int u = 0; u < 4; ++u) head[u] = kConcat ? static_cast<int32_t>((v + u) * 4 / d) : 0;
     for (int32_t e = 0; e < degree; ++e) {
-      const float* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
-      const float* ae = a + static_cast<Index>(e) * heads;
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* ae = a + static_cast<Index>(e) * heads;
       if constexpr (kConcat) {
         if (head[0] == head[3]) {  // d' % 16 == 0: one coefficient for the block
-          const float c = neighbour_coefficient[head[0]] * ae[head[0]];
-          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap(zj + 4 * u);
+          const Scalar c = neighbour_coefficient[head[0]] * ae[head[0]];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + 4 * u);
         } else {
           for (int u = 0; u < 4; ++u)
-            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstPacketMap(zj + 4 * u);
+            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstPacketMap<Scalar>(zj + 4 * u);
         }
       } else {
         for (int32_t h = 0; h < heads; ++h) {
-          const float c = neighbour_coefficient[h] * ae[h];
-          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap(zj + h * d + 4 * u);
+          const Scalar c = neighbour_coefficient[h] * ae[h];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + h * d + 4 * u);
         }
       }
     }
     if (self_coefficient != nullptr) {
-      const float* zs = zi + v * 4;
+      const Scalar* zs = zi + v * 4;
       if constexpr (kConcat) {
-        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstPacketMap(zs + 4 * u);
+        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstPacketMap<Scalar>(zs + 4 * u);
       } else {
         for (int32_t h = 0; h < heads; ++h)
-          for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[h] * ConstPacketMap(zs + h * d + 4 * u);
+          for (int u = 0; u < 4; ++u)
+            acc[u] += self_coefficient[h] * ConstPacketMap<Scalar>(zs + h * d + 4 * u);
       }
     }
     if (bias != nullptr)
-      for (int u = 0; u < 4; ++u) acc[u] += ConstPacketMap(bias + v * 4 + 4 * u);
-    for (int u = 0; u < 4; ++u) Eigen::Map<Packet>(row + v * 4 + 4 * u) = acc[u];
+      for (int u = 0; u < 4; ++u) acc[u] += ConstPacketMap<Scalar>(bias + v * 4 + 4 * u);
+    for (int u = 0; u < 4; ++u) Eigen::Map<Packet<Scalar>>(row + v * 4 + 4 * u) = acc[u];
   }
   for (; v < out_vectors; ++v) {
-    Packet acc = Packet::Zero();
+    Packet<Scalar> acc = Packet<Scalar>::Zero();
     const int32_t hv = kConcat ? static_cast<int32_t>(v * 4 / d) : 0;
     for (int32_t e = 0; e < degree; ++e) {
-      const float* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
-      const float* ae = a + static_cast<Index>(e) * heads;
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* ae = a + static_cast<Index>(e) * heads;
       if constexpr (kConcat) {
-        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap(zj);
+        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap<Scalar>(zj);
       } else {
         for (int32_t h = 0; h < heads; ++h)
-          acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
+          acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap<Scalar>(zj + h * d);
       }
     }
     if (self_coefficient != nullptr) {
       if constexpr (kConcat) {
-        acc += self_coefficient[hv] * ConstPacketMap(zi + v * 4);
+        acc += self_coefficient[hv] * ConstPacketMap<Scalar>(zi + v * 4);
       } else {
-        for (int32_t h = 0; h < heads; ++h) acc += self_coefficient[h] * ConstPacketMap(zi + v * 4 + h * d);
+        for (int32_t h = 0; h < heads; ++h)
+          acc += self_coefficient[h] * ConstPacketMap<Scalar>(zi + v * 4 + h * d);
       }
     }
-    if (bias != nullptr) acc += ConstPacketMap(bias + v * 4);
-    Eigen::Map<Packet>(row + v * 4) = acc;
+    if (bias != nullptr) acc += ConstPacketMap<Scalar>(bias + v * 4);
+    Eigen::Map<Packet<Scalar>>(row + v * 4) = acc;
   }
 }
 
@@ -101,29 +106,29 @@ inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int
 // LeakyReLU as max(x, 0) + slope * min(x, 0) with SIMD max/min (a scalar
 // select compiles to a branch that mispredicts on every other edge), then a
 // max-shifted softmax per head. Generic head count.
-template <bool kLipschitz>
-inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t i, int32_t degree,
-                           const int32_t* nb, const float* z, Index zstride, Index width, const float* norms,
-                           float* a, float* lipschitz_denominator) {
-  const float* self_score = z + static_cast<Index>(i) * zstride + width;
-  float inverse_denominator[kMaxAttentionHeads];
+template <typename Scalar, bool kLipschitz>
+inline void softmax_scalar(const AttentionParamsT<Scalar>& params, int32_t heads, int32_t i, int32_t degree,
+                           const int32_t* nb, const Scalar* z, Index zstride, Index width,
+                           const Scalar* norms, Scalar* a, Scalar* lipschitz_denominator) {
+  const Scalar* self_score = z + static_cast<Index>(i) * zstride + width;
+  Scalar inverse_denominator[kMaxAttentionHeads];
   if constexpr (kLipschitz) {
-    float largest[kMaxAttentionHeads];
+    Scalar largest[kMaxAttentionHeads];
     for (int32_t h = 0; h < heads; ++h) largest[h] = 0.0f;
     for (int32_t e = 0; e < degree; ++e) {
-      const float* nj = norms + static_cast<Index>(nb[e]) * heads;
+      const Scalar* nj = norms + static_cast<Index>(nb[e]) * heads;
       for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], nj[h]);
     }
     for (int32_t h = 0; h < heads; ++h) {
-      const float den = params.self_norm[h] * norms[static_cast<Index>(i) * heads + h] +
-                        params.neighbour_norm[h] * largest[h] + params.lipschitz_epsilon;
+      const Scalar den = params.self_norm[h] * norms[static_cast<Index>(i) * heads + h] +
+                         params.neighbour_norm[h] * largest[h] + params.lipschitz_epsilon;
       if (lipschitz_denominator != nullptr) lipschitz_denominator[static_cast<Index>(i) * heads + h] = den;
       inverse_denominator[h] = 1.0f / den;
     }
   }
   for (int32_t e = 0; e < degree; ++e) {
-    const float* t = z + static_cast<Index>(nb[e]) * zstride + width + heads;
-    float* ae = a + static_cast<Index>(e) * heads;
+    const Scalar* t = z + static_cast<Index>(nb[e]) * zstride + width + heads;
+    Scalar* ae = a + static_cast<Index>(e) * heads;
     for (int32_t h = 0; h < heads; ++h) {
       if constexpr (kLipschitz)
         ae[h] = (self_score[h] + t[h]) * inverse_denominator[h];
@@ -131,17 +136,17 @@ inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t
         ae[h] = self_score[h] + t[h];
     }
   }
-  const float slope = params.negative_slope;
-  Eigen::Map<Eigen::ArrayXf> block(a, static_cast<Index>(degree) * heads);
+  const Scalar slope = params.negative_slope;
+  Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1>> block(a, static_cast<Index>(degree) * heads);
   block = block.max(0.0f) + slope * block.min(0.0f);
-  float largest[kMaxAttentionHeads];
+  Scalar largest[kMaxAttentionHeads];
   for (int32_t h = 0; h < heads; ++h) largest[h] = a[h];
   for (int32_t e = 1; e < degree; ++e)
     for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], a[e * heads + h]);
   for (int32_t e = 0; e < degree; ++e)
     for (int32_t h = 0; h < heads; ++h) a[e * heads + h] -= largest[h];
   block = block.exp();
-  float inverse_sum[kMaxAttentionHeads];
+  Scalar inverse_sum[kMaxAttentionHeads];
   for (int32_t h = 0; h < heads; ++h) inverse_sum[h] = 0.0f;
   for (int32_t e = 0; e < degree; ++e)
     for (int32_t h = 0; h < heads; ++h) inverse_sum[h] += a[e * heads + h];
@@ -151,51 +156,53 @@ inline void softmax_scalar(const AttentionParams& params, int32_t heads, int32_t
 }
 
 // The same with kPackets * 4 heads, one packet per 4 heads and edge.
-template <int kPackets, bool kLipschitz>
-inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t degree, const int32_t* nb,
-                            const float* z, Index zstride, Index width, const float* norms, float* a,
-                            float* lipschitz_denominator) {
+template <typename Scalar, int kPackets, bool kLipschitz>
+inline void softmax_packets(const AttentionParamsT<Scalar>& params, int32_t i, int32_t degree,
+                            const int32_t* nb, const Scalar* z, Index zstride, Index width,
+                            const Scalar* norms, Scalar* a, Scalar* lipschitz_denominator) {
   constexpr int kHeads = 4 * kPackets;
-  const float* self_score = z + static_cast<Index>(i) * zstride + width;
-  Packet self[kPackets], inverse_denominator[kPackets], largest[kPackets], sum[kPackets];
-  for (int p = 0; p < kPackets; ++p) self[p] = ConstPacketMap(self_score + 4 * p);
+  const Scalar* self_score = z + static_cast<Index>(i) * zstride + width;
+  Packet<Scalar> self[kPackets], inverse_denominator[kPackets], largest[kPackets], sum[kPackets];
+  for (int p = 0; p < kPackets; ++p) self[p] = ConstPacketMap<Scalar>(self_score + 4 * p);
   if constexpr (kLipschitz) {
-    for (int p = 0; p < kPackets; ++p) largest[p] = Packet::Zero();
+    for (int p = 0; p < kPackets; ++p) largest[p] = Packet<Scalar>::Zero();
     for (int32_t e = 0; e < degree; ++e)
       for (int p = 0; p < kPackets; ++p)
-        largest[p] = largest[p].max(ConstPacketMap(norms + static_cast<Index>(nb[e]) * kHeads + 4 * p));
+        largest[p] =
+            largest[p].max(ConstPacketMap<Scalar>(norms + static_cast<Index>(nb[e]) * kHeads + 4 * p));
     for (int p = 0; p < kPackets; ++p) {
-      const Packet den = ConstPacketMap(params.self_norm + 4 * p) *
-                             ConstPacketMap(norms + static_cast<Index>(i) * kHeads + 4 * p) +
-                         ConstPacketMap(params.neighbour_norm + 4 * p) * largest[p] +
-                         params.lipschitz_epsilon;
+      const Packet<Scalar> den = ConstPacketMap<Scalar>(params.self_norm + 4 * p) *
+                                     ConstPacketMap<Scalar>(norms + static_cast<Index>(i) * kHeads + 4 * p) +
+                                 ConstPacketMap<Scalar>(params.neighbour_norm + 4 * p) * largest[p] +
+                                 params.lipschitz_epsilon;
       if (lipschitz_denominator != nullptr)
-        Eigen::Map<Packet>(lipschitz_denominator + static_cast<Index>(i) * kHeads + 4 * p) = den;
+        Eigen::Map<Packet<Scalar>>(lipschitz_denominator + static_cast<Index>(i) * kHeads + 4 * p) = den;
       inverse_denominator[p] = den.inverse();
     }
   }
-  const float slope = params.negative_slope;
-  for (int p = 0; p < kPackets; ++p) largest[p] = Packet::Constant(-std::numeric_limits<float>::infinity());
+  const Scalar slope = params.negative_slope;
+  for (int p = 0; p < kPackets; ++p)
+    largest[p] = Packet<Scalar>::Constant(-std::numeric_limits<Scalar>::infinity());
   for (int32_t e = 0; e < degree; ++e) {
-    const float* t = z + static_cast<Index>(nb[e]) * zstride + width + kHeads;
+    const Scalar* t = z + static_cast<Index>(nb[e]) * zstride + width + kHeads;
     for (int p = 0; p < kPackets; ++p) {
-      Packet x = self[p] + ConstPacketMap(t + 4 * p);
+      Packet<Scalar> x = self[p] + ConstPacketMap<Scalar>(t + 4 * p);
       if constexpr (kLipschitz) x *= inverse_denominator[p];
       x = x.max(0.0f) + slope * x.min(0.0f);
-      Eigen::Map<Packet>(a + e * kHeads + 4 * p) = x;
+      Eigen::Map<Packet<Scalar>>(a + e * kHeads + 4 * p) = x;
       largest[p] = largest[p].max(x);
     }
   }
-  for (int p = 0; p < kPackets; ++p) sum[p] = Packet::Zero();
+  for (int p = 0; p < kPackets; ++p) sum[p] = Packet<Scalar>::Zero();
   for (int32_t e = 0; e < degree; ++e)
     for (int p = 0; p < kPackets; ++p) {
-      Eigen::Map<Packet> x(a + e * kHeads + 4 * p);
+      Eigen::Map<Packet<Scalar>> x(a + e * kHeads + 4 * p);
       x = (x - largest[p]).exp();
       sum[p] += x;
     }
   for (int p = 0; p < kPackets; ++p) sum[p] = sum[p].inverse();
   for (int32_t e = 0; e < degree; ++e)
-    for (int p = 0; p < kPackets; ++p) Eigen::Map<Packet>(a + e * kHeads + 4 * p) *= sum[p];
+    for (int p = 0; p < kPackets; ++p) Eigen::Map<Packet<Scalar>>(a + e * kHeads + 4 * p) *= sum[p];
 }
 
 // Logits, softmax and the weighted sum for destination nodes [begin, end).
@@ -203,21 +210,21 @@ inline void softmax_packets(const AttentionParams& params, int32_t i, int32_t de
 // and the logits of one edge become one SIMD vector); 0 reads it at run time.
 // Lipschitz and the merge mode are template parameters too, so the inner
 // loops carry no branches.
-template <int kHeads, bool kLipschitz, bool kConcat>
-void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph, const float* z,
-                     Index zstride, const float* norms, int32_t begin, int32_t end, float* out, Index ostride,
-                     float* alpha, float* scratch, float* lipschitz_denominator) {
+template <typename Scalar, int kHeads, bool kLipschitz, bool kConcat>
+void aggregate_nodes(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph, const Scalar* z,
+                     Index zstride, const Scalar* norms, int32_t begin, int32_t end, Scalar* out,
+                     Index ostride, Scalar* alpha, Scalar* scratch, Scalar* lipschitz_denominator) {
   const int32_t heads = kHeads > 0 ? kHeads : params.heads;
   const Index d = params.head_width;
   const Index width = static_cast<Index>(heads) * d;  // columns of z holding z_j
   const Index out_width = kConcat ? width : d;
-  const float head_scale = kConcat ? 1.0f : 1.0f / static_cast<float>(heads);
+  const Scalar head_scale = kConcat ? 1.0f : 1.0f / static_cast<Scalar>(heads);
   const int32_t* offsets = graph.offsets.data();
   const int32_t* sources = graph.sources.data();
-  float* head_rows = scratch;  // heads * d' (mean, generic d'); then max_degree * heads (alpha)
+  Scalar* head_rows = scratch;  // heads * d' (mean, generic d'); then max_degree * heads (alpha)
 
   // Per-head coefficients: Q (times 1/H for mean) on alpha, (P - Q) on z_i.
-  float neighbour_coefficient[kMaxAttentionHeads], self_coefficient[kMaxAttentionHeads];
+  Scalar neighbour_coefficient[kMaxAttentionHeads], self_coefficient[kMaxAttentionHeads];
   bool has_self_term = false;
   for (int32_t h = 0; h < heads; ++h) {
     neighbour_coefficient[h] = params.neighbour_coefficient[h] * head_scale;
@@ -226,7 +233,7 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
   }
 
   for (int32_t i = begin; i < end; ++i) {
-    float* __restrict row = out + static_cast<Index>(i) * ostride;
+    Scalar* __restrict row = out + static_cast<Index>(i) * ostride;
     const int32_t first = offsets[i];
     const int32_t degree = offsets[i + 1] - first;
     const int32_t* __restrict nb = sources + first;
@@ -234,49 +241,50 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
       for (Index k = 0; k < out_width; ++k) row[k] = params.bias != nullptr ? params.bias[k] : 0.0f;
       continue;
     }
-    const float* zi = z + static_cast<Index>(i) * zstride;
-    float* __restrict a = alpha != nullptr ? alpha + static_cast<Index>(first) * heads : scratch + width;
+    const Scalar* zi = z + static_cast<Index>(i) * zstride;
+    Scalar* __restrict a = alpha != nullptr ? alpha + static_cast<Index>(first) * heads : scratch + width;
 
     if constexpr (kHeads > 0 && kHeads % 4 == 0) {
       // Heads in SIMD lanes: one edge's logits are kHeads / 4 packets.
-      softmax_packets<kHeads / 4, kLipschitz>(params, i, degree, nb, z, zstride, width, norms, a,
-                                              lipschitz_denominator);
+      softmax_packets<Scalar, kHeads / 4, kLipschitz>(params, i, degree, nb, z, zstride, width, norms, a,
+                                                      lipschitz_denominator);
     } else {
-      softmax_scalar<kLipschitz>(params, heads, i, degree, nb, z, zstride, width, norms, a,
-                                 lipschitz_denominator);
+      softmax_scalar<Scalar, kLipschitz>(params, heads, i, degree, nb, z, zstride, width, norms, a,
+                                         lipschitz_denominator);
     }
 
     // y_i = sum_j Q alpha_ij z_j + (P - Q) z_i + bias, in that order.
     if (d % 4 == 0) {
-      accumulate_blocked<kConcat>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
-                                  has_self_term ? self_coefficient : nullptr, params.bias, row);
+      accumulate_blocked<Scalar, kConcat>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
+                                          has_self_term ? self_coefficient : nullptr, params.bias, row);
     } else if (!kConcat && d < 4 && (heads - 1) * d + 4 <= zstride) {
       // Mean of narrow heads (the xyz output layers, d' = 3): one packet per
       // head, lanes past d' read the next columns of the same Z row and are
       // dropped. Same per-element order as the generic path below.
-      Packet acc[kMaxAttentionHeads];
-      for (int32_t h = 0; h < heads; ++h) acc[h] = Packet::Zero();
+      Packet<Scalar> acc[kMaxAttentionHeads];
+      for (int32_t h = 0; h < heads; ++h) acc[h] = Packet<Scalar>::Zero();
       for (int32_t e = 0; e < degree; ++e) {
-        const float* zj = z + static_cast<Index>(nb[e]) * zstride;
-        const float* ae = a + static_cast<Index>(e) * heads;
+        const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride;
+        const Scalar* ae = a + static_cast<Index>(e) * heads;
         for (int32_t h = 0; h < heads; ++h)
-          acc[h] += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap(zj + h * d);
+          acc[h] += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap<Scalar>(zj + h * d);
       }
       if (has_self_term)
-        for (int32_t h = 0; h < heads; ++h) acc[h] += self_coefficient[h] * ConstPacketMap(zi + h * d);
+        for (int32_t h = 0; h < heads; ++h)
+          acc[h] += self_coefficient[h] * ConstPacketMap<Scalar>(zi + h * d);
       for (int32_t h = 1; h < heads; ++h) acc[0] += acc[h];
       for (Index k = 0; k < d; ++k) row[k] = acc[0][k] + (params.bias != nullptr ? params.bias[k] : 0.0f);
     } else {
       // Generic d': per-head accumulators (the row itself for concat), so each
       // output element's dependency chain is one add per edge, not per
       // edge and head; mean sums the heads at the end.
-      float* __restrict acc = kConcat ? row : head_rows;
+      Scalar* __restrict acc = kConcat ? row : head_rows;
       for (Index k = 0; k < width; ++k) acc[k] = 0.0f;
       for (int32_t e = 0; e < degree; ++e) {
-        const float* __restrict zj = z + static_cast<Index>(nb[e]) * zstride;
-        const float* ae = a + static_cast<Index>(e) * heads;
+        const Scalar* __restrict zj = z + static_cast<Index>(nb[e]) * zstride;
+        const Scalar* ae = a + static_cast<Index>(e) * heads;
         for (int32_t h = 0; h < heads; ++h) {
-          const float c = neighbour_coefficient[h] * ae[h];
+          const Scalar c = neighbour_coefficient[h] * ae[h];
           for (Index k = 0; k < d; ++k) acc[h * d + k] += c * zj[h * d + k];
         }
       }
@@ -285,7 +293,7 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
           for (Index k = 0; k < d; ++k) acc[h * d + k] += self_coefficient[h] * zi[h * d + k];
       if constexpr (!kConcat) {
         for (Index k = 0; k < d; ++k) {
-          float sum = acc[k];
+          Scalar sum = acc[k];
           for (int32_t h = 1; h < heads; ++h) sum += acc[h * d + k];
           row[k] = sum;
         }
@@ -296,21 +304,25 @@ void aggregate_nodes(const AttentionParams& params, const AttentionGraph& graph,
   }
 }
 
-template <int kHeads>
-void aggregate_dispatch(const AttentionParams& p, const AttentionGraph& g, const float* z, Index zs,
-                        const float* norms, int32_t begin, int32_t end, float* out, Index os, float* alpha,
-                        float* scratch, float* den) {
+template <typename Scalar, int kHeads>
+void aggregate_dispatch(const AttentionParamsT<Scalar>& p, const AttentionGraph& g, const Scalar* z, Index zs,
+                        const Scalar* norms, int32_t begin, int32_t end, Scalar* out, Index os, Scalar* alpha,
+                        Scalar* scratch, Scalar* den) {
   const bool concat = p.merge == HeadMerge::concat;
   if (p.lipschitz) {
     if (concat)
-      aggregate_nodes<kHeads, true, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+      aggregate_nodes<Scalar, kHeads, true, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                  den);
     else
-      aggregate_nodes<kHeads, true, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+      aggregate_nodes<Scalar, kHeads, true, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                   den);
   } else {
     if (concat)
-      aggregate_nodes<kHeads, false, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+      aggregate_nodes<Scalar, kHeads, false, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                   den);
     else
-      aggregate_nodes<kHeads, false, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch, den);
+      aggregate_nodes<Scalar, kHeads, false, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                    den);
   }
 }
 
@@ -408,41 +420,55 @@ AttentionParams attention_params(const GraphAttentionLayer& layer) {
   return params;
 }
 
-void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride, int32_t begin,
-                          int32_t end, float* norms) {
+template <typename Scalar>
+void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* projected, Index zstride,
+                          int32_t begin, int32_t end, Scalar* norms) {
   const int32_t heads = params.heads;
   const Index d = params.head_width;
   for (int32_t j = begin; j < end; ++j) {
-    const float* zj = projected + static_cast<Index>(j) * zstride;
+    const Scalar* zj = projected + static_cast<Index>(j) * zstride;
     for (int32_t h = 0; h < heads; ++h) {
-      float s = 0.0f;
+      Scalar s = 0;
       for (Index k = 0; k < d; ++k) s += zj[h * d + k] * zj[h * d + k];
       norms[static_cast<Index>(j) * heads + h] = std::sqrt(s);
     }
   }
 }
 
-void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph, const float* projected,
-                         Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
-                         Index ostride, float* alpha, float* scratch, float* lipschitz_denominator) {
+template <typename Scalar>
+void attention_aggregate(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
+                         const NonDeduced<Scalar>* projected, Index zstride, const NonDeduced<Scalar>* norms,
+                         int32_t begin, int32_t end, NonDeduced<Scalar>* out, Index ostride,
+                         NonDeduced<Scalar>* alpha, NonDeduced<Scalar>* scratch,
+                         NonDeduced<Scalar>* lipschitz_denominator) {
   switch (params.heads) {
     case 1:
-      return aggregate_dispatch<1>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
-                                   scratch, lipschitz_denominator);
+      return aggregate_dispatch<Scalar, 1>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
     case 2:
-      return aggregate_dispatch<2>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
-                                   scratch, lipschitz_denominator);
+      return aggregate_dispatch<Scalar, 2>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
     case 4:
-      return aggregate_dispatch<4>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
-                                   scratch, lipschitz_denominator);
+      return aggregate_dispatch<Scalar, 4>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
     case 8:
-      return aggregate_dispatch<8>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
-                                   scratch, lipschitz_denominator);
+      return aggregate_dispatch<Scalar, 8>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
     default:
-      return aggregate_dispatch<0>(params, graph, projected, zstride, norms, begin, end, out, ostride, alpha,
-                                   scratch, lipschitz_denominator);
+      return aggregate_dispatch<Scalar, 0>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
   }
 }
+
+template void attention_node_norms(const AttentionParamsT<float>&, const float*, Index, int32_t, int32_t,
+                                   float*);
+template void attention_node_norms(const AttentionParamsT<double>&, const double*, Index, int32_t, int32_t,
+                                   double*);
+template void attention_aggregate(const AttentionParamsT<float>&, const AttentionGraph&, const float*, Index,
+                                  const float*, int32_t, int32_t, float*, Index, float*, float*, float*);
+template void attention_aggregate(const AttentionParamsT<double>&, const AttentionGraph&, const double*,
+                                  Index, const double*, int32_t, int32_t, double*, Index, double*, double*,
+                                  double*);
 
 size_t attention_scratch_floats(size_t heads, size_t heads_times_width, const AttentionGraph& graph) {
   return heads_times_width + static_cast<size_t>(std::max(graph.max_degree, 0)) * heads;

@@ -22,6 +22,7 @@
 // its backward next to it (the GEMM's backward is the framework's).
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/mesh.h"
@@ -83,26 +84,35 @@ struct GraphAttentionLayer {
   RowVector neighbour_coefficient;  // heads: Q (1 for gat, lgat)
 };
 
-// Parameters of the raw-buffer kernel (everything after the GEMM).
-struct AttentionParams {
+// Parameters of the raw-buffer kernel (everything after the GEMM). The
+// kernel exists for float (the runtime, training) and double (gradient
+// checks of the trainer's backward).
+// Pointer arguments take their scalar type from the params (so nullptr binds).
+template <typename T>
+using NonDeduced = typename std::enable_if<true, T>::type;
+
+template <typename Scalar>
+struct AttentionParamsT {
   int32_t heads = 1;
   int32_t head_width = 1;
   HeadMerge merge = HeadMerge::concat;
   bool lipschitz = false;  // lgat
-  float negative_slope = 0.2f;
-  float lipschitz_epsilon = 1e-6f;
-  const float* self_coefficient = nullptr;       // heads: P - Q
-  const float* neighbour_coefficient = nullptr;  // heads: Q
-  const float* self_norm = nullptr;              // heads: ||a_self||      (lipschitz only)
-  const float* neighbour_norm = nullptr;         // heads: ||a_neighbour|| (lipschitz only)
-  const float* bias = nullptr;                   // out width, or null
+  Scalar negative_slope = Scalar(0.2);
+  Scalar lipschitz_epsilon = Scalar(1e-6);
+  const Scalar* self_coefficient = nullptr;       // heads: P - Q
+  const Scalar* neighbour_coefficient = nullptr;  // heads: Q
+  const Scalar* self_norm = nullptr;              // heads: ||a_self||      (lipschitz only)
+  const Scalar* neighbour_norm = nullptr;         // heads: ||a_neighbour|| (lipschitz only)
+  const Scalar* bias = nullptr;                   // out width, or null
 };
+using AttentionParams = AttentionParamsT<float>;
 AttentionParams attention_params(const GraphAttentionLayer& layer);
 
 // Per-node head norms ||z_j^h|| for LGAT: norms[j * heads + h], nodes
 // [begin, end). projected: N x (heads*d' + 2*heads), row stride zstride.
-void attention_node_norms(const AttentionParams& params, const float* projected, Index zstride, int32_t begin,
-                          int32_t end, float* norms);
+template <typename Scalar>
+void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* projected, Index zstride,
+                          int32_t begin, int32_t end, Scalar* norms);
 
 // The fused kernel for destination nodes [begin, end): writes
 // y_i + bias (pre-activation) to out (row stride ostride). Nodes are
@@ -112,9 +122,12 @@ void attention_node_norms(const AttentionParams& params, const float* projected,
 // scratch: attention_scratch_floats(heads, heads * head_width, graph) floats,
 // private to the calling thread.
 // lipschitz_denominator: N x heads output (the divisor of each logit) or null.
-void attention_aggregate(const AttentionParams& params, const AttentionGraph& graph, const float* projected,
-                         Index zstride, const float* norms, int32_t begin, int32_t end, float* out,
-                         Index ostride, float* alpha, float* scratch, float* lipschitz_denominator);
+template <typename Scalar>
+void attention_aggregate(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
+                         const NonDeduced<Scalar>* projected, Index zstride, const NonDeduced<Scalar>* norms,
+                         int32_t begin, int32_t end, NonDeduced<Scalar>* out, Index ostride,
+                         NonDeduced<Scalar>* alpha, NonDeduced<Scalar>* scratch,
+                         NonDeduced<Scalar>* lipschitz_denominator);
 
 size_t attention_scratch_floats(size_t heads, size_t heads_times_width, const AttentionGraph& graph);
 
