@@ -6,11 +6,12 @@
 #   scripts/sanitize.sh                  every test
 #   scripts/sanitize.sh test_a test_b    only these test programs (CI runs the
 #                                        file-loader fuzz tests this way)
+# The trainer is left out: libtorch itself is not built with the sanitizers.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
 cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLEAT_SANITIZE=ON \
-  -DPLEAT_BUILD_BENCH=OFF >/dev/null
+  -DPLEAT_BUILD_BENCH=OFF -DPLEAT_BUILD_TRAINING=OFF >/dev/null
 cmake --build "$root/build-asan" -j "$(nproc)" ${1:+--target "$@"}
 cd "$root/build-asan"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
