@@ -11,9 +11,9 @@
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "core/geometry.h"
-#include "metrics/nearest_points.h"
 #include "nn/mlp.h"
 #include "nn/parallel.h"
+#include "runtime/binding.h"
 #include "runtime/frame_features.h"
 #include "spectral/band_split.h"
 #include "spectral/blas_threads.h"
@@ -24,12 +24,10 @@ namespace {
 using nn::ConstMatrixRef;
 using nn::MatrixRef;
 using nn::MatrixRM;
-using nn::RowVector;
 using nn::view;
 
 constexpr int32_t kRowBlock = nn::kAttentionTaskRows;
 constexpr double kUnitTolerance = 1e-3;  // allowed | |q| - 1 | of a pose rotation
-constexpr float kPriorFloor = 1e-6f;     // log(w + floor): a zero body weight stays finite
 
 [[noreturn]] void bad(const std::string& what) {
   fail(PLEAT_ERROR_INVALID_ARGUMENT, what);
@@ -50,12 +48,6 @@ void for_row_blocks(nn::Executor& executor, int32_t n, const Fn& fn) {
                  (*ctx.fn)(begin, std::min(ctx.n, begin + kRowBlock));
                },
                &context);
-}
-
-// (x - shift) * scale on rows [begin, end) of a feature matrix.
-void normalize_rows(const InputNormalization& n, MatrixRM& x, int32_t begin, int32_t end) {
-  if (n.empty()) return;
-  for (int32_t r = begin; r < end; ++r) x.row(r) = (x.row(r) - n.shift).cwiseProduct(n.scale);
 }
 
 // Ping-pong buffers of a graph stack plus its attention workspace; one set
@@ -98,55 +90,6 @@ void run_stack(const GraphStack& stack, const nn::AttentionGraph& graph, ConstMa
   }
 }
 
-// Model joint j is body joint body_of_model[j]: same count, every model
-// name present, parents corresponding. Messages name the joint at fault.
-std::vector<int32_t> map_joints(const Model& model, const Skeleton& body, const std::string& body_source) {
-  const ModelSkeleton& s = model.skeleton;
-  if (body.joint_count() != s.joint_count())
-    bad("body '" + body_source + "' has " + std::to_string(body.joint_count()) + " joints, model '" +
-        model.source + "' was trained on " + std::to_string(s.joint_count()) +
-        " (retarget the motion onto a body with the model's skeleton)");
-  std::vector<int32_t> map(static_cast<size_t>(s.joint_count()));
-  for (int32_t j = 0; j < s.joint_count(); ++j) {
-    const int32_t b = body.find(s.joint_names[j]);
-    if (b < 0)
-      bad("model joint " + std::to_string(j) + " '" + s.joint_names[j] + "' is not a joint of body '" +
-          body_source + "'");
-    map[j] = b;
-  }
-  for (int32_t j = 0; j < s.joint_count(); ++j) {
-    const int32_t model_parent = s.parents[j];
-    const int32_t body_parent = body.parents[map[j]];
-    const int32_t expected = model_parent < 0 ? -1 : map[model_parent];
-    if (body_parent != expected)
-      bad("joint '" + s.joint_names[j] + "' has parent '" +
-          (body_parent < 0 ? std::string("(none)") : body.names[body_parent]) + "' in body '" + body_source +
-          "' but '" + (model_parent < 0 ? std::string("(none)") : s.joint_names[model_parent]) +
-          "' in model '" + model.source + "'");
-  }
-  return map;
-}
-
-// β in the model's order: the body's value by name, the model's default for
-// a body without a shape vector.
-RowVector shape_vector(const Model& model, const Body& body) {
-  RowVector beta(model.shape_count());
-  for (int32_t i = 0; i < model.shape_count(); ++i) {
-    const ShapeEntry& entry = model.shape[i];
-    if (body.shape.empty()) {
-      beta[i] = entry.default_value;
-      continue;
-    }
-    const auto it = std::find_if(body.shape.begin(), body.shape.end(),
-                                 [&](const ShapeParameter& p) { return p.name == entry.name; });
-    if (it == body.shape.end())
-      bad("model '" + model.source + "' reads shape entry '" + entry.name + "', which body '" + body.source +
-          "' does not have");
-    beta[i] = static_cast<float>(it->value);
-  }
-  return beta;
-}
-
 }  // namespace
 
 struct Instance::State {
@@ -155,14 +98,9 @@ struct Instance::State {
   int32_t n = 0, joints = 0, window = 0, top_k = 0, max_batch = 0;
   Index code = 0;
 
-  Skeleton skeleton;                   // the body's, in the body's joint order (poses come in it)
-  std::vector<int32_t> body_of_model;  // model joint -> body joint
-  Transforms rest_global;              // body order
-  FrameFeatures features;              // pose -> network inputs (frame_features.h)
-  nn::AttentionGraph graph;
-  MatrixRM fused_static;  // N x C: G ⊙ b, pose-independent part of F^t
-  MatrixRM prior;         // N x S: skinning_prior * log(w_body + floor); empty without a prior
-  MatrixRM rest;          // N x 3: T̄
+  std::unique_ptr<Binding> binding;  // joint map, rest joints, encoder inputs, prior, graph, T̄
+  FrameFeatures features;            // pose -> network inputs (frame_features.h)
+  MatrixRM fused_static;             // N x C: G ⊙ b, pose-independent part of F^t
 
   nn::SerialExecutor serial;
   std::unique_ptr<nn::ThreadPool> pool;
@@ -218,37 +156,14 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   top_k = std::min(options.top_k > 0 ? options.top_k : m.default_top_k, joints);
   max_batch = options.max_batch;
 
-  body_of_model = map_joints(m, body.skeleton, body.source);
-  skeleton = body.skeleton;
-  rest_global = rest_transforms(skeleton);
-  features = FrameFeatures(m, skeleton, body_of_model);
+  binding = bind_inputs(m, g, body);
+  features = FrameFeatures(m, binding->skeleton, binding->body_of_model);
 
-  // Rest joints J(β) in model order, the root's rest position.
-  Points3d rest_joints(joints, 3);
-  for (int32_t j = 0; j < joints; ++j)
-    rest_joints.row(j) = rest_global[body_of_model[j]].translation().transpose();
-
-  // Body code b: per body vertex [β | distances to J(β)], MLP, [mean | max], pool.
-  const RowVector beta = shape_vector(m, body);
-  const int32_t nb = body.vertex_count();
-  MatrixRM body_x(nb, m.body_encoder.in_width());
-  for (int32_t v = 0; v < nb; ++v) {
-    Index col = 0;
-    for (Feature f : m.body_features) {
-      if (f == Feature::shape) {
-        body_x.row(v).segment(col, beta.size()) = beta;
-        col += beta.size();
-      } else {  // rest_joint_distances
-        for (int32_t j = 0; j < joints; ++j)
-          body_x(v, col + j) = static_cast<float>((body.rest.vertices.row(v) - rest_joints.row(j)).norm());
-        col += joints;
-      }
-    }
-  }
-  normalize_rows(m.body_normalization, body_x, 0, nb);
-  MatrixRM body_h(nb, m.body_encoder.out_width());
+  // Body code b: the body encoder over every body vertex, [mean | max], pool.
+  const MatrixRM& body_x = binding->body_input;
+  MatrixRM body_h(body_x.rows(), m.body_encoder.out_width());
   nn::MlpWorkspace mlp_workspace;
-  mlp_workspace.reserve(m.body_encoder, nb);
+  mlp_workspace.reserve(m.body_encoder, body_x.rows());
   nn::mlp_forward(m.body_encoder, body_x, body_h, mlp_workspace);
   MatrixRM pooled(1, 2 * body_h.cols());
   pooled.leftCols(body_h.cols()) = body_h.colwise().mean();
@@ -257,29 +172,10 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   nn::dense_forward(m.body_pool, pooled, m.body_pool_activation, body_code);
 
   // Garment encoder G on the rest garment, fused with b.
-  graph = nn::attention_graph(g.graph);
-  rest = g.rest.vertices.cast<float>();
-  MatrixRM garment_x(n, m.garment_encoder.in_width());
-  features.rest_garment(g, rest_joints, garment_x);
-  normalize_rows(m.garment_encoder.normalization, garment_x, 0, n);
-  stacks.reserve(m.garment_encoder, graph);
+  stacks.reserve(m.garment_encoder, binding->graph);
   fused_static.resize(n, code);
-  run_stack(m.garment_encoder, graph, garment_x, fused_static, stacks, serial);
+  run_stack(m.garment_encoder, binding->graph, binding->garment_input, fused_static, stacks, serial);
   fused_static.array().rowwise() *= body_code.row(0).array();
-
-  // Skinning prior: the weights of the nearest rest body vertex.
-  if (m.skinning_prior > 0.0f) {
-    const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, g.rest.vertices);
-    std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
-    for (int32_t j = 0; j < joints; ++j) model_of_body[body_of_model[j]] = j;
-    prior = MatrixRM::Zero(n, joints);
-    for (int32_t v = 0; v < n; ++v) {
-      const int32_t b = nearest[v];
-      for (int32_t k = body.weights.offsets[b]; k < body.weights.offsets[b + 1]; ++k)
-        prior(v, model_of_body[body.weights.joints[k]]) = static_cast<float>(body.weights.weights[k]);
-    }
-    prior = m.skinning_prior * (prior.array() + kPriorFloor).log();
-  }
 
   if (options.threads > 1) pool = std::make_unique<nn::ThreadPool>(options.threads);
   executor = pool ? static_cast<nn::Executor*>(pool.get()) : &serial;
@@ -302,8 +198,8 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   skinned[1].resize(n, 3);
   normals.resize(n, 3);
   refinement_in.resize(n, m.refinement.in_width());
-  stacks.reserve(m.blend, graph);
-  stacks.reserve(m.refinement, graph);
+  stacks.reserve(m.blend, binding->graph);
+  stacks.reserve(m.refinement, binding->graph);
   const size_t chosen = static_cast<size_t>(max_batch) * static_cast<size_t>(n) * static_cast<size_t>(top_k);
   chosen_joint.resize(chosen);
   chosen_weight.resize(chosen);
@@ -325,8 +221,9 @@ void Instance::State::check_poses(const PoseSequence& poses, int64_t begin, int6
       const double norm =
           std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] + double(q[3]) * q[3]);
       if (!std::isfinite(norm) || std::abs(norm - 1.0) > kUnitTolerance)
-        bad("poses frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" + skeleton.names[j] +
-            "': rotation is not a unit quaternion (norm " + std::to_string(norm) + ")");
+        bad("poses frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" +
+            binding->skeleton.names[j] + "': rotation is not a unit quaternion (norm " +
+            std::to_string(norm) + ")");
     }
     for (int k = 0; k < 3; ++k) {
       const float x = poses.root_positions[f * 3 + k];
@@ -348,7 +245,8 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
   // One frame's window at a time: a batch of windows would change the GEMM
   // shapes and with them the rounding, and results must not depend on batching.
   nn::gru_window(m.motion_encoder, window_x, window, motion_code, gru);
-  features.skinning_matrices(poses, t, pose, pose_global, rest_global, matrices, skin, joint_positions);
+  features.skinning_matrices(poses, t, pose, pose_global, binding->rest_global, matrices, skin,
+                             joint_positions);
 
   const int32_t k = top_k;
   const bool blend = stage != Stage::skinning;
@@ -360,15 +258,16 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
     auto l = logits.middleRows(begin, rows);
     l.noalias() = fused_static.middleRows(begin, rows) * skinning_q;
     if (m.skinning.bias.size() != 0) l.rowwise() += m.skinning.bias;
-    if (prior.size() != 0) l += prior.middleRows(begin, rows);
+    if (binding->prior.size() != 0) l += binding->prior.middleRows(begin, rows);
     for (int32_t v = begin; v < end; ++v)
       top_k_softmax(logits.row(v).data(), joints, k, weights_out + static_cast<size_t>(v) * k,
                     joints_out + static_cast<size_t>(v) * k);
   });
-  if (blend) run_stack(m.blend, graph, fused_static, offsets, stacks, *executor, &blend_first);
+  if (blend) run_stack(m.blend, binding->graph, fused_static, offsets, stacks, *executor, &blend_first);
   MatrixRM& out = skinned[slot];
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
+      const MatrixRM& rest = binding->rest;
       float x = rest(v, 0), y = rest(v, 1), z = rest(v, 2);
       if (blend) {
         x += m.blend_scale * offsets(v, 0);
@@ -410,7 +309,7 @@ void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const M
     }
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });
-  run_stack(m.refinement, graph, refinement_in, offsets, stacks, *executor);
+  run_stack(m.refinement, binding->graph, refinement_in, offsets, stacks, *executor);
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
       const Eigen::Vector3f delta = heading * offsets.row(v).transpose();
