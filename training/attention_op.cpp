@@ -1,6 +1,7 @@
 #include "attention_op.h"
 
 #include "nn/graph_attention_backward.h"
+#include "tensors.h"
 
 namespace pleat::training {
 namespace {
@@ -186,17 +187,6 @@ torch::Tensor attention_aggregate_generic(const torch::Tensor& z, const torch::T
   return merge == nn::HeadMerge::concat ? y.reshape({n, heads * d}) : y.mean(1);
 }
 
-namespace {
-
-torch::Tensor from_matrix(const nn::MatrixRM& m) {
-  return torch::from_blob(const_cast<float*>(m.data()), {m.rows(), m.cols()}, torch::kFloat32).clone();
-}
-torch::Tensor from_vector(const nn::RowVector& v) {
-  return torch::from_blob(const_cast<float*>(v.data()), {v.size()}, torch::kFloat32).clone();
-}
-
-}  // namespace
-
 torch::Tensor activate(const torch::Tensor& x, const nn::Activation& a) {
   switch (a.kind) {
     case nn::ActivationKind::identity: return x;
@@ -209,13 +199,13 @@ torch::Tensor activate(const torch::Tensor& x, const nn::Activation& a) {
 }
 
 GraphAttentionImpl::GraphAttentionImpl(const nn::GraphAttentionLayer& layer) : spec_(layer) {
-  weight = register_parameter("weight", from_matrix(layer.weight));
-  attention = register_parameter("attention", from_matrix(layer.attention));
+  weight = register_parameter("weight", to_tensor(layer.weight));
+  attention = register_parameter("attention", to_tensor(layer.attention));
   const bool flexible = layer.variant == nn::AttentionVariant::flexigat;
-  p = register_parameter("p", flexible ? from_vector(layer.p) : torch::ones({layer.heads}), flexible);
-  q = register_parameter("q", flexible ? from_vector(layer.q) : torch::ones({layer.heads}), flexible);
+  p = register_parameter("p", flexible ? to_tensor(layer.p) : torch::ones({layer.heads}), flexible);
+  q = register_parameter("q", flexible ? to_tensor(layer.q) : torch::ones({layer.heads}), flexible);
   bias = register_parameter("bias",
-                            layer.bias.size() ? from_vector(layer.bias) : torch::zeros({layer.out_width()}));
+                            layer.bias.size() ? to_tensor(layer.bias) : torch::zeros({layer.out_width()}));
 }
 
 torch::Tensor GraphAttentionImpl::forward(const torch::Tensor& v, const nn::AttentionGraph& graph,
@@ -242,19 +232,13 @@ torch::Tensor GraphAttentionImpl::forward(const torch::Tensor& v, const nn::Atte
 
 nn::GraphAttentionLayer GraphAttentionImpl::to_layer() const {
   nn::GraphAttentionLayer l = spec_;
-  const torch::Tensor w = weight.detach().to(torch::kFloat32).contiguous();
-  const torch::Tensor a = attention.detach().to(torch::kFloat32).contiguous();
-  l.weight = Eigen::Map<const nn::MatrixRM>(w.data_ptr<float>(), w.size(0), w.size(1));
-  l.attention = Eigen::Map<const nn::MatrixRM>(a.data_ptr<float>(), a.size(0), a.size(1));
-  const auto vec = [](const torch::Tensor& t) {
-    const torch::Tensor c = t.detach().to(torch::kFloat32).contiguous();
-    return nn::RowVector(Eigen::Map<const nn::RowVector>(c.data_ptr<float>(), c.numel()));
-  };
+  l.weight = to_matrix(weight);
+  l.attention = to_matrix(attention);
   if (spec_.variant == nn::AttentionVariant::flexigat) {
-    l.p = vec(p);
-    l.q = vec(q);
+    l.p = to_row(p);
+    l.q = to_row(q);
   }
-  l.bias = vec(bias);
+  l.bias = to_row(bias);
   l.prepare();
   return l;
 }

@@ -1,0 +1,204 @@
+// Parity of the trainer's network with the runtime: the same model, garment,
+// body and poses give the same positions (within 1e-4 of the garment's
+// bounding-box diagonal) at every stage, for a freshly initialised model and
+// for one whose every parameter has been moved by training steps and which
+// went through a model file; and the MakeHuman body with the sample dress
+// at the initialiser's full architecture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "body/makehuman.h"
+#include "body/motion_ops.h"
+#include "core/garment.h"
+#include "io/bvh.h"
+#include "io/mesh_import.h"
+#include "network.h"
+#include "runtime/instance.h"
+#include "runtime/model_file.h"
+#include "runtime/model_init.h"
+#include "support/test_support.h"
+
+using namespace pleat;
+using namespace pleat::runtime;
+
+namespace {
+
+Body chain_body() {
+  Body b;
+  b.source = "chain";
+  b.skeleton.names = {"hips", "spine", "arm"};
+  b.skeleton.parents = {-1, 0, 1};
+  b.skeleton.rest_translation.resize(3, 3);
+  b.skeleton.rest_translation << 0, 1, 0, 0, 0.3, 0, 0.3, 0.1, 0;
+  b.skeleton.rest_rotation.assign(3, Eigen::Quaterniond::Identity());
+  b.rest.vertices.resize(4, 3);
+  b.rest.vertices << -0.1, 0.9, 0.1, 0.1, 0.9, 0.1, 0, 1.3, 0.1, 0.3, 1.4, 0.1;
+  b.rest.triangles.resize(2, 3);
+  b.rest.triangles << 0, 1, 2, 1, 3, 2;
+  b.weights.joint_count = 3;
+  b.weights.offsets = {0, 1, 2, 4, 5};
+  b.weights.joints = {0, 0, 0, 1, 2};
+  b.weights.weights = {1, 1, 0.5, 0.5, 1};
+  return b;
+}
+
+std::shared_ptr<const Garment> grid_garment(int side) {
+  Points3d v(side * side, 3);
+  Triangles t(2 * (side - 1) * (side - 1), 3);
+  int k = 0;
+  for (int r = 0; r < side; ++r)
+    for (int c = 0; c < side; ++c)
+      v.row(r * side + c) << -0.3 + 0.6 * c / (side - 1), 0.8 + 0.6 * r / (side - 1),
+          0.15 + 0.02 * std::sin(c + r);
+  for (int r = 0; r + 1 < side; ++r)
+    for (int c = 0; c + 1 < side; ++c) {
+      const int a = r * side + c;
+      t.row(k++) << a, a + 1, a + side;
+      t.row(k++) << a + 1, a + side + 1, a + side;
+    }
+  return std::make_shared<const Garment>(build_garment(v, t, {}, "grid"));
+}
+
+struct Clip {
+  std::vector<float> rotations, roots;
+  int32_t joints = 0;
+  PoseSequence poses(int64_t frames) const { return {rotations.data(), roots.data(), frames, joints, 30.0}; }
+};
+
+Clip turning_clip(int frames) {
+  Clip c;
+  c.joints = 3;
+  for (int f = 0; f < frames; ++f) {
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Quaternionf q(
+          Eigen::AngleAxisf(0.25f * f, j == 0 ? Eigen::Vector3f::UnitY() : Eigen::Vector3f::UnitZ()));
+      c.rotations.insert(c.rotations.end(), {q.x(), q.y(), q.z(), q.w()});
+    }
+    c.roots.insert(c.roots.end(), {0.03f * f, 1.0f, 0.02f * f});
+  }
+  return c;
+}
+
+Clip clip_of(const Motion& m, int frames) {
+  Clip c;
+  c.joints = m.skeleton.joint_count();
+  for (int f = 0; f < frames; ++f) {
+    for (int j = 0; j < c.joints; ++j) {
+      const Eigen::Quaterniond& q = m.frame(f)[j];
+      c.rotations.insert(c.rotations.end(), {float(q.x()), float(q.y()), float(q.z()), float(q.w())});
+    }
+    for (int k = 0; k < 3; ++k) c.roots.push_back(float(m.root_translation(f, k)));
+  }
+  return c;
+}
+
+double diagonal(const Garment& g) {
+  return (g.rest.vertices.colwise().maxCoeff() - g.rest.vertices.colwise().minCoeff()).norm();
+}
+
+// Largest |trainer - runtime| over frames and stages, relative to the diagonal.
+double parity(const std::shared_ptr<const Model>& model, training::Network& network,
+              const std::shared_ptr<const Garment>& garment, const Body& body, const Clip& clip,
+              const std::vector<int64_t>& frames) {
+  training::BoundGarment bound(*model, garment, body);
+  InstanceOptions options;
+  options.top_k = model->joint_count();  // exact softmax, as in training
+  Instance instance(model, garment, body, options);
+  const int64_t total = frames.back() + 1;
+  const PoseSequence poses = clip.poses(total);
+  const int n = instance.vertex_count();
+  double worst = 0;
+  torch::NoGradGuard no_grad;
+  for (Stage stage : {Stage::skinning, Stage::blend_shapes, Stage::refinement}) {
+    const torch::Tensor got = network->forward(bound, poses, frames, stage).positions.contiguous();
+    for (size_t i = 0; i < frames.size(); ++i) {
+      std::vector<float> want(size_t(n) * 3);
+      EvaluateOutputs out;
+      out.positions = {want.data(), size_t(n) * 3};
+      instance.evaluate(poses, frames[i], 1, stage, out);
+      const float* g = got[static_cast<int64_t>(i)].data_ptr<float>();
+      for (size_t k = 0; k < want.size(); ++k) worst = std::max(worst, double(std::abs(g[k] - want[k])));
+    }
+  }
+  std::printf("trainer vs runtime: %.3g of the bounding-box diagonal\n", worst / diagonal(*garment));
+  return worst / diagonal(*garment);
+}
+
+ModelInitOptions small_options() {
+  ModelInitOptions o;
+  o.code_width = 16;
+  o.body_widths = {16, 16};
+  o.garment_widths = {16, 16};
+  o.gru_layers = 2;
+  o.blend_widths = {16, 3};
+  o.refinement_widths = {16, 8, 3};
+  o.window_frames = 4;
+  return o;
+}
+
+}  // namespace
+
+TEST(TrainingNetwork, FreshModelMatchesTheRuntime) {
+  const Body body = chain_body();
+  const auto garment = grid_garment(8);
+  for (auto variant :
+       {nn::AttentionVariant::gat, nn::AttentionVariant::lgat, nn::AttentionVariant::flexigat}) {
+    ModelInitOptions o = small_options();
+    o.variant = variant;
+    const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, o);
+    training::Network network(*model);
+    EXPECT_LT(parity(model, network, garment, body, turning_clip(9), {0, 3, 8}), 1e-4) << int(variant);
+  }
+}
+
+TEST(TrainingNetwork, TrainedAndExportedModelMatchesTheRuntime) {
+  const Body body = chain_body();
+  const auto garment = grid_garment(8);
+  const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, small_options());
+  training::Network network(*model);
+  training::BoundGarment bound(*model, garment, body);
+  const Clip clip = turning_clip(9);
+  const PoseSequence poses = clip.poses(9);
+  // Pull the output towards a shifted, scaled copy: every parameter moves.
+  torch::optim::Adam optimizer(network->parameters(), torch::optim::AdamOptions(3e-2));
+  const std::vector<int64_t> frames = {2, 5, 8};
+  const torch::Tensor target = bound.rest.unsqueeze(0).expand({3, -1, -1}) * 1.1 + 0.05;
+  std::vector<torch::Tensor> before;
+  for (const torch::Tensor& p : network->parameters()) before.push_back(p.detach().clone());
+  for (int step = 0; step < 20; ++step) {
+    optimizer.zero_grad();
+    const torch::Tensor loss =
+        (network->forward(bound, poses, frames, Stage::refinement).positions - target).pow(2).mean();
+    loss.backward();
+    optimizer.step();
+  }
+  size_t moved = 0, index = 0;
+  for (const torch::Tensor& p : network->parameters()) moved += !torch::equal(p.detach(), before[index++]);
+  EXPECT_GE(moved, network->parameters().size() - 0) << "every trainable parameter changed";
+
+  const std::string path = pleat_test::temp_dir("training_network") + "/trained.pleat";
+  save_model(*network->to_model(), path);
+  const std::shared_ptr<const Model> loaded = load_model_file(path);
+  EXPECT_LT(parity(loaded, network, garment, body, clip, {0, 4, 8}), 1e-4);
+}
+
+TEST(TrainingNetwork, MakeHumanDressAtTheFullArchitectureMatchesTheRuntime) {
+  const Body body = MakeHumanModel::load(pleat_test::asset_dir() + "/body")->body(makehuman_default_beta());
+  const ImportedMesh mesh = import_mesh(pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj");
+  GarmentBuildOptions go;
+  go.unit_scale = 0.1;
+  const auto garment =
+      std::make_shared<const Garment>(build_garment(mesh.vertices, mesh.triangles, go, "dress"));
+  ModelSkeleton skeleton{body.skeleton.names, body.skeleton.parents};
+  std::vector<ShapeEntry> shape;
+  for (const ShapeParameter& p : body.shape) shape.push_back({p.name, float(p.default_value)});
+  const auto model = initialize_model(skeleton, shape, ModelInitOptions{});
+  const Motion walk = retarget_motion(
+      resample_motion(read_bvh(pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh").motion,
+                      30.0),
+      body.skeleton);
+  training::Network network(*model);
+  EXPECT_LT(parity(model, network, garment, body, clip_of(walk, 12), {0, 11}), 1e-4);
+}
