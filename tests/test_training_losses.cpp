@@ -1,0 +1,211 @@
+// Every training loss on a case with a known value, and its gradient
+// against central finite differences in double.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "core/garment.h"
+#include "core/geodesic.h"
+#include "losses.h"
+#include "spectral/band_split.h"
+#include "spectral/bands.h"
+
+using namespace pleat;
+using namespace pleat::training;
+
+namespace {
+
+// side x side grid of spacing `spacing` on the plane z = 0 (or two such
+// sheets `gap` apart along z), prepared: bands and 10 cm geodesic neighbourhoods.
+Garment sheet(int side, double spacing, double gap = -1.0) {
+  const int sheets = gap >= 0 ? 2 : 1;
+  Points3d v(sheets * side * side, 3);
+  Triangles t(sheets * 2 * (side - 1) * (side - 1), 3);
+  int k = 0;
+  for (int s = 0; s < sheets; ++s) {
+    const int base = s * side * side;
+    for (int r = 0; r < side; ++r)
+      for (int c = 0; c < side; ++c) v.row(base + r * side + c) << spacing * c, spacing * r, s * gap;
+    for (int r = 0; r + 1 < side; ++r)
+      for (int c = 0; c + 1 < side; ++c) {
+        const int a = base + r * side + c;
+        t.row(k++) << a, a + 1, a + side;
+        t.row(k++) << a + 1, a + side + 1, a + side;
+      }
+  }
+  GarmentBuildOptions o;
+  o.weld_tolerance = -1.0;  // the two sheets must stay apart
+  Garment g = build_garment(v, t, o, "sheet");
+  g.prepared.emplace();
+  g.prepared->bands = compute_band_basis(g.graph, BandOptions{}).cast<float>();
+  g.prepared->geodesic_radius = 0.10;
+  g.prepared->geodesic = geodesic_neighbourhoods(g.rest.vertices, g.graph, 0.10);
+  return g;
+}
+
+torch::Tensor positions(const Garment& g) {
+  return torch::from_blob(const_cast<double*>(g.rest.vertices.data()), {1, g.rest.vertex_count(), 3},
+                          torch::kFloat64)
+      .clone();
+}
+
+torch::Tensor wobble(const torch::Tensor& x, double amount, uint64_t seed) {
+  torch::manual_seed(seed);
+  return x + amount * (torch::rand_like(x) - 0.5);
+}
+
+// Autograd gradient of f at x against central differences of f.
+void expect_gradient(const std::function<torch::Tensor(const torch::Tensor&)>& f, torch::Tensor x,
+                     const char* what, double tolerance = 1e-6) {
+  x = x.clone().to(torch::kFloat64).requires_grad_(true);
+  f(x).backward();
+  const torch::Tensor analytic = x.grad().clone();
+  torch::NoGradGuard no_grad;
+  auto flat = x.view({-1});
+  double largest = 0;
+  for (int64_t i = 0; i < flat.numel(); ++i) {
+    const double keep = flat[i].item<double>(), h = 1e-6;
+    flat[i] = keep + h;
+    const double up = f(x).item<double>();
+    flat[i] = keep - h;
+    const double down = f(x).item<double>();
+    flat[i] = keep;
+    const double numeric = (up - down) / (2 * h);
+    largest = std::max(largest, std::abs(numeric));
+    ASSERT_NEAR(analytic.view({-1})[i].item<double>(), numeric, tolerance * (1 + std::abs(numeric)))
+        << what << " entry " << i;
+  }
+  EXPECT_GT(largest, 1e-4) << what << ": the gradient check is not vacuous";
+}
+
+}  // namespace
+
+TEST(TrainingLosses, FrequencyVertexLossSplitsLikeTheLibraryAndKeepsShiftsLow) {
+  const Garment g = sheet(5, 0.05);
+  const BandProjector bands(g.prepared->bands);
+  const torch::Tensor truth = positions(g);
+  // A rigid shift is all low band (random-walk projection): L_lv = |c|.
+  const torch::Tensor shifted = truth + torch::tensor({0.03, -0.04, 0.0}, torch::kFloat64);
+  const VertexLoss shift = frequency_vertex_loss(bands, shifted, truth, 2.0, 1.5);
+  EXPECT_NEAR(shift.low.item<double>(), 0.05, 1e-6);
+  EXPECT_NEAR(shift.mid.item<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(shift.high.item<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(shift.total.item<double>(), 0.05, 1e-6);
+  // A random error: each band's term is the mean norm of split_bands' band.
+  const torch::Tensor x = wobble(truth, 0.02, 1);
+  const VertexLoss l = frequency_vertex_loss(bands, x, truth, 2.0, 1.5);
+  const int n = g.rest.vertex_count();
+  const torch::Tensor e = (x - truth).to(torch::kFloat32).contiguous();
+  std::vector<float> low(n * 3), mid(n * 3), high(n * 3);
+  split_bands(g.prepared->bands, e.data_ptr<float>(), 1, n * 3, low.data(), n * 3, mid.data(), n * 3,
+              high.data(), n * 3);
+  const auto mean_norm = [&](const std::vector<float>& b) {
+    double s = 0;
+    for (int i = 0; i < n; ++i)
+      s += std::sqrt(b[i * 3] * b[i * 3] + b[i * 3 + 1] * b[i * 3 + 1] + b[i * 3 + 2] * b[i * 3 + 2]);
+    return s / n;
+  };
+  EXPECT_NEAR(l.low.item<double>(), mean_norm(low), 1e-6);
+  EXPECT_NEAR(l.mid.item<double>(), mean_norm(mid), 1e-6);
+  EXPECT_NEAR(l.high.item<double>(), mean_norm(high), 1e-6);
+  EXPECT_NEAR(l.total.item<double>(), mean_norm(low) + 2 * mean_norm(mid) + 1.5 * mean_norm(high), 1e-5);
+  EXPECT_GT(l.high.item<double>(), 0.0);
+  expect_gradient(
+      [&](const torch::Tensor& p) { return frequency_vertex_loss(bands, p, truth, 2.0, 1.5).total; }, x,
+      "vertex loss");
+  EXPECT_NEAR(vertex_loss(shifted, truth).item<double>(), 0.05, 1e-12);
+}
+
+TEST(TrainingLosses, EdgeAndNormalLosses) {
+  const Garment g = sheet(4, 0.1);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor truth = positions(g);
+  // Scaling by 1.1 stretches every edge by 10 %.
+  const double mean_length = (truth[0].index_select(0, geometry.edges.select(1, 0)) -
+                              truth[0].index_select(0, geometry.edges.select(1, 1)))
+                                 .norm(2, -1)
+                                 .mean()
+                                 .item<double>();
+  EXPECT_NEAR(edge_loss(geometry, truth * 1.1, truth).item<double>(), 0.1 * mean_length, 1e-9);
+  // A quarter turn about x: every face normal turns by 90 degrees.
+  const torch::Tensor turned = torch::stack({truth.select(2, 0), -truth.select(2, 2), truth.select(2, 1)}, 2);
+  EXPECT_NEAR(normal_loss(geometry, turned, truth).item<double>(), 1.0, 1e-9);
+  EXPECT_NEAR(normal_loss(geometry, truth, truth).item<double>(), 0.0, 1e-12);
+  const torch::Tensor x = wobble(truth, 0.03, 2);
+  expect_gradient([&](const torch::Tensor& p) { return edge_loss(geometry, p, truth); }, x, "edge loss");
+  expect_gradient([&](const torch::Tensor& p) { return normal_loss(geometry, p, truth); }, x, "normal loss");
+}
+
+TEST(TrainingLosses, CollisionPenalisesVerticesBelowTheMarginAlongTheBodyNormal) {
+  // Body: a coarse plane y = 0 facing +y; garment 1 cm below it, so
+  // d = -1 cm and every vertex costs (0.4 + 1)³.
+  const torch::Tensor body =
+      torch::tensor({-1.0, 0.0, -1.0, 1.0, 0.0, -1.0, -1.0, 0.0, 1.0, 1.0, 0.0, 1.0}, torch::kFloat64)
+          .view({1, 4, 3});
+  const torch::Tensor normals = torch::tensor({0.0, 1.0, 0.0}, torch::kFloat64).expand({1, 4, 3});
+  torch::Tensor x = torch::tensor({0.1, -0.01, 0.2, -0.3, -0.01, 0.5}, torch::kFloat64).view({1, 2, 3});
+  EXPECT_NEAR(collision_loss(x, body, normals).item<double>(), std::pow(1.4, 3), 1e-9);
+  EXPECT_NEAR(
+      collision_loss(x + torch::tensor({0.0, 0.02, 0.0}, torch::kFloat64), body, normals).item<double>(), 0.0,
+      1e-12)
+      << "1 cm above the body, outside the 0.4 cm margin";
+  expect_gradient([&](const torch::Tensor& p) { return collision_loss(p, body, normals); }, x,
+                  "collision loss");
+}
+
+TEST(TrainingLosses, SelfCollisionRepelsGeodesicallyFarVerticesThatCameClose) {
+  // Two sheets 1 cm apart, 3 cm spacing: each vertex has exactly one
+  // partner within 2 cm, on the other sheet, geodesically unreachable.
+  const Garment g = sheet(3, 0.03, 0.01);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor x = positions(g);
+  EXPECT_NEAR(self_collision_loss(geometry, x).item<double>(), std::exp(-8.0), 1e-12);
+  // One sheet alone: neighbours are 3 cm apart, nothing is close.
+  const Garment one = sheet(3, 0.03);
+  EXPECT_EQ(self_collision_loss(GarmentGeometry(one), positions(one)).item<double>(), 0.0);
+  // A dense sheet: its vertices 1.5 cm apart are close, but they are
+  // geodesic neighbours (within 10 cm along the surface): no collision.
+  const Garment dense = sheet(5, 0.015);
+  EXPECT_EQ(self_collision_loss(GarmentGeometry(dense), positions(dense)).item<double>(), 0.0);
+  expect_gradient([&](const torch::Tensor& p) { return self_collision_loss(geometry, p); },
+                  wobble(x, 0.004, 3), "self-collision loss");
+}
+
+TEST(TrainingLosses, GravityStretchShearAndBending) {
+  const Garment g = sheet(4, 0.1);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor rest = positions(g);
+  const double area = geometry.rest_areas.sum().item<double>();
+  EXPECT_NEAR(area, 0.09, 1e-7);  // float32 rest data
+  // Lifting by 2 cm stores m g h.
+  EXPECT_NEAR(gravity_loss(geometry, rest + torch::tensor({0.0, 0.02, 0.0}, torch::kFloat64)).item<double>(),
+              0.15 * area * 9.81 * 0.02, 1e-8);
+  // Uniform scaling by 1.1: both directions stretch by 10 %, no shear.
+  EXPECT_NEAR(stretch_loss(geometry, rest * 1.1).item<double>(), 2 * 0.01 * area, 1e-8);
+  EXPECT_NEAR(shear_loss(geometry, rest * 1.1).item<double>(), 0.0, 1e-12);
+  // Shear x += 0.2 y: w_u . w_v = ±0.2 in every face.
+  const torch::Tensor sheared =
+      rest + torch::stack({0.2 * rest.select(2, 1), torch::zeros_like(rest.select(2, 0)),
+                           torch::zeros_like(rest.select(2, 0))},
+                          2);
+  EXPECT_NEAR(shear_loss(geometry, sheared).item<double>(), 0.04 * area, 1e-8);
+  EXPECT_NEAR(bending_loss(geometry, rest).item<double>(), 0.0, 1e-12);
+  // One hinge: two right triangles folded by 0.5 rad about their shared edge.
+  Points3d v(4, 3);
+  v << 0, 0, 0, 1, 0, 0, 0.5, 1, 0, 0.5, -1, 0;
+  Triangles t(2, 3);
+  t << 0, 1, 2, 1, 0, 3;
+  const GarmentGeometry hinge(build_garment(v, t, {}, "hinge"));
+  ASSERT_EQ(hinge.hinges.size(0), 1);
+  const torch::Tensor folded =
+      torch::tensor({0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.5, -std::cos(0.5), std::sin(0.5)},
+                    torch::kFloat64)
+          .view({1, 4, 3});
+  EXPECT_NEAR(bending_loss(hinge, folded).item<double>(), 3.0 * 0.25, 1e-6) << "w = 3 |e|² / (A1 + A2) = 3";
+  const torch::Tensor x = wobble(rest, 0.03, 4);
+  expect_gradient([&](const torch::Tensor& p) { return gravity_loss(geometry, p); }, x, "gravity loss");
+  expect_gradient([&](const torch::Tensor& p) { return stretch_loss(geometry, p); }, x, "stretch loss");
+  expect_gradient([&](const torch::Tensor& p) { return shear_loss(geometry, p); }, x, "shear loss");
+  expect_gradient([&](const torch::Tensor& p) { return bending_loss(geometry, p); }, x, "bending loss");
+}

@@ -1,0 +1,86 @@
+#pragma once
+// The training losses of the paper (§III-C, DESIGN §6) on batches of frames.
+// Positions are B x N x 3 tensors in metres; every loss is averaged over the
+// frames of the batch and returned unweighted (the schedule applies k_*).
+// Units follow the paper: the vertex losses are in metres (k_v = 100 makes
+// them centimetres), the collision margins and Eq. 15's distances in cm.
+#include <torch/torch.h>
+
+#include <vector>
+
+#include "core/garment.h"
+#include "spectral/bands.h"
+
+namespace pleat::training {
+
+// Everything the losses need from the rest garment, as tensors.
+struct GarmentGeometry {
+  explicit GarmentGeometry(const Garment& garment, double density = 0.15 /* kg/m², cotton */);
+
+  torch::Tensor rest;          // N x 3
+  torch::Tensor edges;         // E x 2 (int64), unique mesh edges
+  torch::Tensor triangles;     // F x 3 (int64)
+  torch::Tensor rest_inverse;  // F x 2 x 2: inverse of the rest edge matrix in each face's own 2D frame
+  torch::Tensor rest_areas;    // F
+  torch::Tensor masses;        // N: density x one third of the incident rest area
+  torch::Tensor hinges;        // H x 4 (int64): edge (a, b) and the opposite corners (c, d) of its two faces
+  torch::Tensor hinge_rest;    // H: rest dihedral angle
+  torch::Tensor hinge_weight;  // H: 3 |e|² / (A1 + A2) (discrete shells)
+  Csr geodesic;                // rest geodesic neighbourhoods (prepared garment; empty otherwise)
+};
+
+// Frequency bands of the prepared garment as a linear projection of errors:
+// low(e), mid(e), high(e) = e - low - mid, exactly split_bands' definition
+// (random-walk or symmetric form, the basis's own cuts).
+class BandProjector {
+ public:
+  explicit BandProjector(const BandBasis<float>& basis);
+  // e: B x N x 3 -> {low, mid, high}, each B x N x 3.
+  std::array<torch::Tensor, 3> split(const torch::Tensor& e) const;
+
+ private:
+  torch::Tensor low_, mid_, scale_;  // N x l, N x (m - l), N x 1 (sqrt degree; ones for symmetric)
+};
+
+// Eq. 11-14: L_lv + k_mv L_mv + k_hv L_hv with L_xv = 1/N Σ_i ||band_x(x - x_GT)_i||₂
+// (k_v outside). The three band terms come back separately too.
+struct VertexLoss {
+  torch::Tensor total, low, mid, high;
+};
+VertexLoss frequency_vertex_loss(const BandProjector& bands, const torch::Tensor& x,
+                                 const torch::Tensor& truth, double k_mid, double k_high);
+// The same without frequency division: 1/N Σ_i ||x_i - x_i^GT||₂.
+torch::Tensor vertex_loss(const torch::Tensor& x, const torch::Tensor& truth);
+
+// Mean over edges of |l_e - l_e^GT| (metres).
+torch::Tensor edge_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
+
+// Mean over faces of 1 - cos(n_f, n_f^GT).
+torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
+
+// Garment-body collision (SNUG): mean over vertices of max(margin - d_i, 0)³,
+// d_i = (x_i - p_i)·n_i in cm, p_i the nearest posed body vertex and n_i its
+// unit normal. body, body_normals: B x Nb x 3. margin in cm.
+torch::Tensor collision_loss(const torch::Tensor& x, const torch::Tensor& body,
+                             const torch::Tensor& body_normals, double margin_cm = 0.4);
+
+// Eq. 15: 1/ΣK Σ K_ij exp(-λ d_ij), d in cm, K_ij = 1 for pairs whose rest
+// geodesic distance exceeds the prepared radius (not neighbours in
+// g.geodesic) and whose current distance is below `threshold_cm`. 0 when no
+// pair qualifies.
+torch::Tensor self_collision_loss(const GarmentGeometry& g, const torch::Tensor& x, double lambda = 8.0,
+                                  double threshold_cm = 2.0);
+
+// Gravitational potential relative to the rest pose: Σ_i m_i 9.81 (y_i - ȳ_i) (J).
+torch::Tensor gravity_loss(const GarmentGeometry& g, const torch::Tensor& x);
+
+// Baraff-Witkin membrane terms per face, area-weighted sums over faces
+// (F = deformation gradient, w_u, w_v its columns in the rest 2D frame):
+// stretch Σ A ((|w_u| - 1)² + (|w_v| - 1)²), shear Σ A (w_u·w_v)².
+torch::Tensor stretch_loss(const GarmentGeometry& g, const torch::Tensor& x);
+torch::Tensor shear_loss(const GarmentGeometry& g, const torch::Tensor& x);
+
+// Discrete-shells bending: Σ_hinges w (θ - θ_rest)², θ the dihedral angle.
+torch::Tensor bending_loss(const GarmentGeometry& g, const torch::Tensor& x);
+
+}  // namespace pleat::training
