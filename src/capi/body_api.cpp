@@ -4,8 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "body/makehuman.h"
-#include "body/smpl_npz.h"
+#include "body/body_source.h"
 #include "capi/firewall.h"
 #include "capi/frames.h"
 #include "capi/handles.h"
@@ -17,33 +16,13 @@ using namespace pleat::capi;
 
 namespace {
 
-uint32_t resolve_kind(const std::string& path, uint32_t kind) {
-  if (kind != PLEAT_BODY_AUTO) return kind;
-  if (std::filesystem::is_directory(path)) return PLEAT_BODY_MAKEHUMAN;
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".npz" || ext == ".NPZ" ? PLEAT_BODY_SMPL_NPZ : PLEAT_BODY_RIGGED_MESH;
-}
-
 pleat_body* load_body(const std::string& path, const pleat_body_load_options& o) {
-  switch (resolve_kind(path, o.kind)) {
-    case PLEAT_BODY_MAKEHUMAN: {
-      require(o.rig <= PLEAT_RIG_MAKEHUMAN_DEFAULT,
-              "'pleat_body_load_options.rig' has unknown value " + std::to_string(o.rig));
-      auto model = MakeHumanModel::load(
-          path, o.rig == PLEAT_RIG_CMU_MB ? MakeHumanRig::cmu_mb : MakeHumanRig::default_rig);
-      return new pleat_body{model->body(makehuman_default_beta()),
-                            [model](const Eigen::VectorXd& beta) { return model->body(beta); }};
-    }
-    case PLEAT_BODY_SMPL_NPZ: {
-      auto model = std::make_shared<const SmplModel>(load_smpl_npz(path));
-      return new pleat_body{smpl_body(*model, Eigen::VectorXd::Zero(model->shape_count())),
-                            [model](const Eigen::VectorXd& beta) { return smpl_body(*model, beta); }};
-    }
-    case PLEAT_BODY_RIGGED_MESH: return new pleat_body{import_rig(path).body, {}};
-    default:
-      fail(PLEAT_ERROR_INVALID_ARGUMENT,
-           "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
-  }
+  require(o.kind <= PLEAT_BODY_RIGGED_MESH,
+          "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
+  require(o.rig <= PLEAT_RIG_MAKEHUMAN_DEFAULT,
+          "'pleat_body_load_options.rig' has unknown value " + std::to_string(o.rig));
+  BodySource source = load_body_source(path, o.kind, o.rig);
+  return new pleat_body{std::move(source.body), std::move(source.reshape)};
 }
 
 template <typename T>
