@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev libspectra-dev libopenblas-dev
   libassimp-dev libflatbuffers-dev flatbuffers-compiler libgtest-dev libminizip-dev zlib1g-dev
   python3-numpy python3-scipy
+  nlohmann-json3-dev
   libtorch-dev libopenblas0-pthread
 )
 

@@ -18,8 +18,6 @@ using namespace pleat::capi;
 
 namespace {
 
-constexpr double kDefaultGeodesicRadius = 0.10;  // metres (paper Eq. 15)
-
 GarmentBuildOptions build_options(const pleat_garment_load_options* options) {
   pleat_garment_load_options o = read_options(options, "pleat_garment_load_options");
   require(std::isfinite(o.weld_tolerance), "'pleat_garment_load_options.weld_tolerance' is not finite");
@@ -121,12 +119,9 @@ pleat_status pleat_garment_prepare(pleat_garment* garment, const pleat_prepare_o
     b.solver = static_cast<SolverKind>(o.solver);
     b.projection = static_cast<ProjectionForm>(o.projection);
     const Garment& g = *garment->garment;
-    PreparedData p;
-    p.bands = compute_band_basis(g.graph, b).cast<float>();
-    p.geodesic_radius = o.geodesic_radius > 0.0 ? o.geodesic_radius : kDefaultGeodesicRadius;
-    p.geodesic = geodesic_neighbourhoods(g.rest.vertices, g.graph, p.geodesic_radius);
     auto next = std::make_shared<Garment>(g);
-    next->prepared = std::move(p);
+    next->prepared =
+        prepare_garment(g, b, o.geodesic_radius > 0.0 ? o.geodesic_radius : kDefaultGeodesicRadius);
     garment->garment = std::move(next);
   });
 }

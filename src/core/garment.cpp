@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/geodesic.h"
 #include "core/geometry.h"
 #include "core/topology.h"
 #include "core/weld.h"
@@ -115,6 +116,14 @@ Garment build_garment(const Points3d& input_vertices, const Triangles& input_tri
   }
   r.total_area = g.vertex_areas.sum();
   return g;
+}
+
+PreparedData prepare_garment(const Garment& garment, const BandOptions& bands, double geodesic_radius) {
+  PreparedData p;
+  p.bands = compute_band_basis(garment.graph, bands).cast<float>();
+  p.geodesic_radius = geodesic_radius;
+  p.geodesic = geodesic_neighbourhoods(garment.rest.vertices, garment.graph, geodesic_radius);
+  return p;
 }
 
 }  // namespace pleat

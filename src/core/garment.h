@@ -18,6 +18,8 @@ struct GarmentBuildOptions {
 
 // Relative weld tolerance used when the caller gives none.
 constexpr double kDefaultWeldTolerance = 1e-6;  // of the bounding-box diagonal
+// Geodesic radius of the self-collision neighbourhoods (paper Eq. 15), metres.
+constexpr double kDefaultGeodesicRadius = 0.10;
 // Coordinates beyond this many metres are treated as corrupt input.
 constexpr double kMaxCoordinate = 1e5;
 
@@ -43,6 +45,10 @@ struct Garment {
 // error messages. Throws PLEAT_ERROR_INVALID_MESH only for unusable input.
 Garment build_garment(const Points3d& vertices, const Triangles& triangles,
                       const GarmentBuildOptions& options, const std::string& source);
+
+// Computes the prepared data (band basis with `bands`, geodesic
+// neighbourhoods within `geodesic_radius` metres), once per topology.
+PreparedData prepare_garment(const Garment& garment, const BandOptions& bands, double geodesic_radius);
 
 // Recomputes the derived rest data (edges, graph, normals, areas) of
 // garment.rest; shared by build_garment and the prepared-file reader.

@@ -1,0 +1,58 @@
+#pragma once
+// Training data: sequence folders (io/sequence.h, docs/data.md) loaded with
+// their garment (welded, prepared: bands and geodesic neighbourhoods, once per
+// garment name), their body (the recorded source and shape), the poses, and
+// the simulated garment and posed body as tensors; and mini-batches of
+// frames drawn across several sequences.
+#include <torch/torch.h>
+
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "body/body.h"
+#include "core/garment.h"
+#include "io/sequence.h"
+#include "runtime/instance.h"
+
+namespace pleat::training {
+
+struct TrainingSequence {
+  std::string dir;
+  SequenceMeta meta;
+  std::shared_ptr<const Garment> garment;  // welded and prepared
+  Body body;
+  std::vector<float> rotations, root_positions;  // the body's joint order
+  torch::Tensor truth;                           // frames x N x 3: the simulated garment, welded vertex order
+  torch::Tensor body_positions;                  // frames x body vertices x 3
+  torch::Tensor body_normals;                    // frames x body vertices x 3 (area-weighted, unit)
+  runtime::PoseSequence poses() const;
+  int64_t frame_count() const { return meta.frame_count; }
+};
+
+class Dataset {
+ public:
+  // Loads every folder (relative body paths resolve against the folder).
+  // Throws the readers' errors naming the folder; PLEAT_ERROR_FORMAT when the
+  // recorded joints differ from the body's.
+  explicit Dataset(const std::vector<std::string>& dirs);
+  const std::vector<TrainingSequence>& sequences() const { return sequences_; }
+  int64_t frame_count() const;
+
+  // One epoch's mini-batches: every frame once, shuffled with `rng`, grouped
+  // by sequence (a batch's frames share a garment and a body) into batches
+  // of at most `batch_frames`.
+  struct Batch {
+    size_t sequence;
+    std::vector<int64_t> frames;
+  };
+  std::vector<Batch> epoch(int64_t batch_frames, std::mt19937_64& rng) const;
+
+ private:
+  std::vector<TrainingSequence> sequences_;
+  std::map<std::string, std::shared_ptr<const Garment>> garments_;  // by garment name
+};
+
+}  // namespace pleat::training

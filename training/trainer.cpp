@@ -1,0 +1,358 @@
+#include "trainer.h"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+#include "runtime/model_file.h"
+#include "spectral/band_split.h"
+
+namespace pleat::training {
+namespace {
+
+using Json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+[[noreturn]] void bad_config(const std::string& path, const std::string& what) {
+  fail(PLEAT_ERROR_FORMAT, "training config '" + path + "': " + what);
+}
+
+std::vector<std::string> folders(const Json& j, const std::filesystem::path& base) {
+  std::vector<std::string> out;
+  for (const Json& d : j) {
+    std::filesystem::path p = d.get<std::string>();
+    out.push_back((p.is_relative() ? base / p : p).string());
+  }
+  return out;
+}
+
+nn::AttentionVariant variant_named(const std::string& name, const std::string& path) {
+  if (name == "flexigat") return nn::AttentionVariant::flexigat;
+  if (name == "gat") return nn::AttentionVariant::gat;
+  if (name == "lgat") return nn::AttentionVariant::lgat;
+  bad_config(path, "model.variant must be flexigat, gat or lgat, got '" + name + "'");
+}
+
+std::string iso_now() {
+  const std::time_t t = std::time(nullptr);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return text;
+}
+
+void progress(int64_t epoch, int64_t epochs, size_t done, size_t total, double loss) {
+  const int width = 30, filled = total ? static_cast<int>(width * done / total) : width;
+  std::fprintf(stderr, "\repoch %lld/%lld [%s%s] %zu/%zu batches  loss %.4f ", static_cast<long long>(epoch),
+               static_cast<long long>(epochs), std::string(static_cast<size_t>(filled), '=').c_str(),
+               std::string(static_cast<size_t>(width - filled), ' ').c_str(), done, total, loss);
+}
+
+}  // namespace
+
+TrainerConfig read_trainer_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(PLEAT_ERROR_IO, "training config '" + path + "': cannot open the file");
+  Json j;
+  try {
+    j = Json::parse(in);
+  } catch (const Json::exception& e) {
+    bad_config(path, std::string("not valid JSON: ") + e.what());
+  }
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  TrainerConfig c;
+  try {
+    c.train = folders(j.at("train"), base);
+    if (j.contains("validation")) c.validation = folders(j["validation"], base);
+    const std::filesystem::path schedule = j.at("schedule").get<std::string>();
+    c.schedule_source = (schedule.is_relative() ? base / schedule : schedule).string();
+    c.schedule = read_schedule(c.schedule_source);
+    const std::filesystem::path output = j.at("output").get<std::string>();
+    c.output = (output.is_relative() ? base / output : output).string();
+    c.epochs = j.value("epochs", c.epochs);
+    c.batch_frames = j.value("batch_frames", c.batch_frames);
+    c.learning_rate = j.value("learning_rate", c.learning_rate);
+    c.min_learning_rate = j.value("min_learning_rate", c.min_learning_rate);
+    c.seed = j.value("seed", c.seed);
+    c.frequency_division = j.value("frequency_division", c.frequency_division);
+    c.progress = j.value("progress", c.progress);
+    if (j.contains("model")) {
+      const Json& m = j["model"];
+      c.model.variant = variant_named(m.value("variant", std::string("flexigat")), path);
+      c.model.window_frames = m.value("window_frames", c.model.window_frames);
+      c.model.code_width = m.value("code_width", c.model.code_width);
+      c.model.heads = m.value("heads", c.model.heads);
+      c.model.gru_layers = m.value("gru_layers", c.model.gru_layers);
+      c.model.body_widths = m.value("body_widths", c.model.body_widths);
+      c.model.garment_widths = m.value("garment_widths", c.model.garment_widths);
+      c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
+      c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);
+    }
+  } catch (const Json::exception& e) {
+    bad_config(path, e.what());
+  }
+  if (c.train.empty()) bad_config(path, "train lists no sequence");
+  if (c.epochs < 1 || c.batch_frames < 1) bad_config(path, "epochs and batch_frames must be >= 1");
+  c.model.seed = c.seed;
+  return c;
+}
+
+Trainer::Trainer(TrainerConfig config)
+    : config_(std::move(config)),
+      train_(config_.train),
+      validation_(config_.validation),
+      schedule_(config_.schedule),
+      rng_(config_.seed) {
+  const Body& body = train_.sequences().front().body;
+  std::vector<runtime::ShapeEntry> shape;
+  for (const ShapeParameter& p : body.shape) shape.push_back({p.name, static_cast<float>(p.default_value)});
+  initial_ = runtime::initialize_model({body.skeleton.names, body.skeleton.parents}, shape, config_.model);
+  network_ = Network(*initial_);
+  optimizer_ = std::make_unique<Adamax>(network_->parameters(), config_.learning_rate);
+  for (const TrainingSequence& s : train_.sequences())
+    bound_train_.push_back(std::make_unique<BoundGarment>(*initial_, s.garment, s.body));
+  for (const TrainingSequence& s : validation_.sequences())
+    bound_validation_.push_back(std::make_unique<BoundGarment>(*initial_, s.garment, s.body));
+  for (const Dataset* d : {&train_, &validation_})
+    for (const TrainingSequence& s : d->sequences()) {
+      auto& entry = garments_[s.garment.get()];
+      if (!entry.first) {
+        entry.first = std::make_unique<GarmentGeometry>(*s.garment);
+        entry.second = std::make_unique<BandProjector>(s.garment->prepared->bands);
+      }
+    }
+  std::filesystem::create_directories(config_.output);
+  load_checkpoint();
+}
+
+torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,
+                                  double* vertex_cm) {
+  const size_t index = static_cast<size_t>(&s - train_.sequences().data());
+  const NetworkOutput out =
+      network_->forward(*bound_train_[index], s.poses(), frames, runtime::Stage::refinement);
+  const torch::Tensor at = torch::tensor(frames, torch::kInt64);
+  const torch::Tensor truth = s.truth.index_select(0, at), x = out.positions;
+  const auto& [geometry, bands] = garments_.at(s.garment.get());
+  const LossWeights& w = schedule_.weights();
+  const auto weight = [&](const char* name) {
+    const auto it = w.find(name);
+    return it == w.end() ? 0.0 : it->second;
+  };
+  const torch::Tensor plain = vertex_loss(x, truth);
+  *vertex_cm = plain.item<double>() * 100.0;
+  torch::Tensor loss = torch::zeros({});
+  if (weight("vertex") > 0)
+    loss = loss + weight("vertex") *
+                      (config_.frequency_division
+                           ? frequency_vertex_loss(*bands, x, truth, weight("k_mid"), weight("k_high")).total
+                           : plain);
+  if (weight("edge") > 0) loss = loss + weight("edge") * edge_loss(*geometry, x, truth);
+  if (weight("normal") > 0) loss = loss + weight("normal") * normal_loss(*geometry, x, truth);
+  if (weight("collision") > 0)
+    loss = loss + weight("collision") * collision_loss(x, s.body_positions.index_select(0, at),
+                                                       s.body_normals.index_select(0, at));
+  if (weight("self_collision") > 0)
+    loss = loss + weight("self_collision") * self_collision_loss(*geometry, x);
+  if (weight("gravity") > 0) loss = loss + weight("gravity") * gravity_loss(*geometry, x);
+  if (weight("stretch") > 0) loss = loss + weight("stretch") * stretch_loss(*geometry, x);
+  if (weight("shear") > 0) loss = loss + weight("shear") * shear_loss(*geometry, x);
+  if (weight("bending") > 0) loss = loss + weight("bending") * bending_loss(*geometry, x);
+  return loss;
+}
+
+EpochResult Trainer::train_epoch() {
+  const auto start = Clock::now();
+  EpochResult r;
+  r.epoch = epoch_ + 1;
+  r.phase = schedule_.phase().name;
+  r.learning_rate =
+      cosine_learning_rate(config_.learning_rate, config_.min_learning_rate, epoch_, config_.epochs);
+  optimizer_->set_learning_rate(r.learning_rate);
+  const bool frozen = schedule_.encoders_frozen();
+  for (torch::Tensor& p : network_->encoder_parameters()) p.set_requires_grad(!frozen);
+  const std::vector<Dataset::Batch> batches = train_.epoch(config_.batch_frames, rng_);
+  double loss_sum = 0, vertex_sum = 0;
+  int64_t frames = 0;
+  for (size_t b = 0; b < batches.size(); ++b) {
+    const TrainingSequence& s = train_.sequences()[batches[b].sequence];
+    double vertex_cm = 0;
+    optimizer_->zero_grad();
+    const torch::Tensor loss = batch_loss(s, batches[b].frames, &vertex_cm);
+    loss.backward();
+    optimizer_->step();
+    const double value = loss.item<double>();
+    if (!std::isfinite(value))
+      fail(PLEAT_ERROR_NUMERICAL,
+           "training diverged: the loss of epoch " + std::to_string(r.epoch) + " is not finite");
+    const auto n = static_cast<int64_t>(batches[b].frames.size());
+    loss_sum += value * static_cast<double>(n);
+    vertex_sum += vertex_cm * static_cast<double>(n);
+    frames += n;
+    if (config_.progress) progress(r.epoch, config_.epochs, b + 1, batches.size(), loss_sum / double(frames));
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  r.frames_per_second = double(frames) / r.seconds;
+  r.loss = loss_sum / double(frames);
+  r.train_e_verts_cm = vertex_sum / double(frames);
+  r.validation = validation_.sequences().empty() ? MetricsResult{} : validate(validation_);
+  last_validation_ = r.validation;
+  if (config_.progress)
+    std::fprintf(stderr,
+                 "\repoch %lld/%lld %-16s loss %.4f  E_verts %.3f cm (validation %.3f cm)  %.1f frames/s\n",
+                 static_cast<long long>(r.epoch), static_cast<long long>(config_.epochs), r.phase.c_str(),
+                 r.loss, r.train_e_verts_cm, r.validation.e_verts_cm, r.frames_per_second);
+  ++epoch_;
+  schedule_.end_epoch(validation_.sequences().empty() ? r.train_e_verts_cm : r.validation.e_verts_cm, r.loss);
+  return r;
+}
+
+MetricsResult Trainer::validate(const Dataset& data) {
+  torch::NoGradGuard no_grad;
+  MetricsResult total;
+  for (size_t i = 0; i < data.sequences().size(); ++i) {
+    const TrainingSequence& s = data.sequences()[i];
+    const BoundGarment& bound = &data == &validation_ ? *bound_validation_[i] : *bound_train_[i];
+    const int64_t n = s.garment->rest.vertex_count();
+    std::vector<float> predicted(static_cast<size_t>(s.frame_count() * n * 3));
+    for (int64_t f = 0; f < s.frame_count(); f += config_.batch_frames) {
+      std::vector<int64_t> frames;
+      for (int64_t k = f; k < std::min(s.frame_count(), f + config_.batch_frames); ++k) frames.push_back(k);
+      const torch::Tensor x =
+          network_->forward(bound, s.poses(), frames, runtime::Stage::refinement).positions.contiguous();
+      std::copy(x.data_ptr<float>(), x.data_ptr<float>() + x.numel(), predicted.data() + f * n * 3);
+    }
+    const torch::Tensor truth = s.truth.contiguous();
+    const BandBasis<float>& basis = s.garment->prepared->bands;
+    const BandSplitFn split = [&](const float* in, size_t frames, float* low, float* mid, float* high) {
+      split_bands(basis, in, frames, static_cast<size_t>(n) * 3, low, static_cast<size_t>(n) * 3, mid,
+                  static_cast<size_t>(n) * 3, high, static_cast<size_t>(n) * 3);
+    };
+    MetricsOptions options;
+    options.flags = PLEAT_METRIC_VERTEX | PLEAT_METRIC_NORMALS | PLEAT_METRIC_EDGES | PLEAT_METRIC_CURVATURE |
+                    PLEAT_METRIC_BANDS | PLEAT_METRIC_SELF_COLLISION;
+    const MetricsResult m =
+        compute_metrics(s.garment->rest.triangles, static_cast<int32_t>(n), predicted.data(), 0,
+                        truth.data_ptr<float>(), 0, static_cast<size_t>(s.frame_count()), options, &split);
+    // Frame-weighted mean over sequences.
+    const double w = double(s.frame_count()), before = double(total.frame_count), after = before + w;
+    const auto mix = [&](double& a, double b) { a = (a * before + b * w) / after; };
+    mix(total.e_verts_cm, m.e_verts_cm);
+    mix(total.e_vnorm_deg, m.e_vnorm_deg);
+    mix(total.e_fnorm_deg, m.e_fnorm_deg);
+    mix(total.e_edge_percent, m.e_edge_percent);
+    mix(total.e_curv, m.e_curv);
+    mix(total.e_low_cm, m.e_low_cm);
+    mix(total.e_mid_cm, m.e_mid_cm);
+    mix(total.e_high_cm, m.e_high_cm);
+    mix(total.self_collision_percent, m.self_collision_percent);
+    total.frame_count += m.frame_count;
+    total.computed = m.computed;
+  }
+  return total;
+}
+
+EpochResult Trainer::run(int64_t stop_after) {
+  EpochResult last;
+  const int64_t end = stop_after > 0 ? std::min(stop_after, config_.epochs) : config_.epochs;
+  while (epoch_ < end) {
+    last = train_epoch();
+    log(last);
+    save_checkpoint();
+  }
+  return last;
+}
+
+void Trainer::log(const EpochResult& r) const {
+  const std::string path = config_.output + "/log.csv";
+  const bool fresh = !std::filesystem::exists(path);
+  std::ofstream out(path, std::ios::app);
+  if (fresh)
+    out << "epoch,phase,learning_rate,loss,train_e_verts_cm,e_verts_cm,e_vnorm_deg,e_fnorm_deg,e_edge_"
+           "percent,"
+           "e_curv,e_low_cm,e_mid_cm,e_high_cm,self_collision_percent,seconds,frames_per_second\n";
+  const MetricsResult& v = r.validation;
+  out << r.epoch << ',' << r.phase << ',' << r.learning_rate << ',' << r.loss << ',' << r.train_e_verts_cm
+      << ',' << v.e_verts_cm << ',' << v.e_vnorm_deg << ',' << v.e_fnorm_deg << ',' << v.e_edge_percent << ','
+      << v.e_curv << ',' << v.e_low_cm << ',' << v.e_mid_cm << ',' << v.e_high_cm << ','
+      << v.self_collision_percent << ',' << r.seconds << ',' << r.frames_per_second << '\n';
+  if (!out) fail(PLEAT_ERROR_IO, "cannot append to '" + path + "'");
+}
+
+void Trainer::save_checkpoint() const {
+  std::vector<torch::Tensor> tensors;
+  for (const torch::Tensor& p : network_->parameters()) tensors.push_back(p.detach());
+  for (const torch::Tensor& t : optimizer_->state()) tensors.push_back(t);
+  const std::string base = config_.output + "/checkpoint";
+  torch::save(tensors, base + ".pt.tmp");
+  std::ostringstream rng;
+  rng << rng_;
+  const Json meta = {{"epoch", epoch_},
+                     {"parameters", network_->parameters().size()},
+                     {"schedule", schedule_.save()},
+                     {"rng", rng.str()}};
+  {
+    std::ofstream out(base + ".json.tmp");
+    out << meta.dump(2) << '\n';
+    if (!out) fail(PLEAT_ERROR_IO, "cannot write '" + base + ".json.tmp'");
+  }
+  // The tensors land first: a checkpoint.json always describes a complete .pt.
+  std::filesystem::rename(base + ".pt.tmp", base + ".pt");
+  std::filesystem::rename(base + ".json.tmp", base + ".json");
+}
+
+bool Trainer::load_checkpoint() {
+  const std::string base = config_.output + "/checkpoint";
+  if (!std::filesystem::exists(base + ".json")) return false;
+  std::ifstream in(base + ".json");
+  const Json meta = Json::parse(in);
+  std::vector<torch::Tensor> tensors;
+  torch::load(tensors, base + ".pt");
+  std::vector<torch::Tensor> parameters = network_->parameters();
+  if (meta.at("parameters").get<size_t>() != parameters.size() || tensors.size() < parameters.size())
+    fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was made for another architecture");
+  {
+    torch::NoGradGuard no_grad;
+    for (size_t i = 0; i < parameters.size(); ++i) parameters[i].copy_(tensors[i]);
+  }
+  optimizer_->load_state(std::vector<torch::Tensor>(
+      tensors.begin() + static_cast<std::ptrdiff_t>(parameters.size()), tensors.end()));
+  epoch_ = meta.at("epoch").get<int64_t>();
+  schedule_.restore(meta.at("schedule").get<std::string>());
+  std::istringstream rng(meta.at("rng").get<std::string>());
+  rng >> rng_;
+  return true;
+}
+
+std::shared_ptr<runtime::Model> Trainer::export_model() const {
+  std::shared_ptr<runtime::Model> m = network_->to_model();
+  runtime::TrainingInfo& t = m->training;
+  t.dataset = std::to_string(train_.sequences().size()) + " training sequences (" +
+              std::to_string(train_.frame_count()) + " frames), " +
+              std::to_string(validation_.sequences().size()) + " validation";
+  t.optimizer = "adamax";
+  t.learning_rate = config_.learning_rate;
+  t.schedule = "cosine; " + config_.schedule_source;
+  t.epochs = epoch_;
+  t.seed = static_cast<int64_t>(config_.seed);
+  t.created = iso_now();
+  t.generator = "pleat " PLEAT_VERSION_STRING " trainer";
+  const MetricsResult& v = last_validation_;
+  t.metrics = {{"e_verts_cm", v.e_verts_cm},
+               {"e_vnorm_deg", v.e_vnorm_deg},
+               {"e_fnorm_deg", v.e_fnorm_deg},
+               {"e_edge_percent", v.e_edge_percent},
+               {"e_curv", v.e_curv},
+               {"e_low_cm", v.e_low_cm},
+               {"e_mid_cm", v.e_mid_cm},
+               {"e_high_cm", v.e_high_cm},
+               {"self_collision_percent", v.self_collision_percent}};
+  m->source = config_.output + "/model.pleat";
+  return m;
+}
+
+}  // namespace pleat::training

@@ -1,0 +1,90 @@
+#pragma once
+// The trainer: a model initialised for the data's skeleton (or resumed from a
+// checkpoint), trained with Adamax and cosine annealing under the progressive
+// schedule, validated every epoch with the library's metrics, checkpointed
+// so a resumed run continues exactly, logged as CSV, exported as a model file.
+// docs/training.md describes the configuration.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dataset.h"
+#include "losses.h"
+#include "metrics/metrics.h"
+#include "network.h"
+#include "optimizer.h"
+#include "runtime/model_init.h"
+#include "schedule.h"
+
+namespace pleat::training {
+
+struct TrainerConfig {
+  std::vector<std::string> train, validation;  // sequence folders
+  Schedule schedule;
+  std::string schedule_source = "inline";
+  std::string output;  // folder: checkpoint.pt, checkpoint.json, log.csv, model.pleat
+  int64_t epochs = 100;
+  int64_t batch_frames = 4;
+  double learning_rate = 3e-3, min_learning_rate = 0.0;
+  uint64_t seed = 1;
+  bool frequency_division = true;  // false: plain vertex loss (the ablation without FreqDiv)
+  runtime::ModelInitOptions model;
+  bool progress = true;  // a progress bar on stderr
+};
+
+// Reads a configuration file (JSON; paths relative to the file).
+// Throws PLEAT_ERROR_FORMAT naming the file and key.
+TrainerConfig read_trainer_config(const std::string& path);
+
+struct EpochResult {
+  int64_t epoch = 0;
+  std::string phase;
+  double learning_rate = 0.0;
+  double loss = 0.0;              // mean weighted loss over the epoch's batches
+  double train_e_verts_cm = 0.0;  // mean vertex distance of the training batches
+  MetricsResult validation;       // on the validation sequences (zeros without any)
+  double seconds = 0.0;
+  double frames_per_second = 0.0;  // training frames (forward + backward)
+};
+
+class Trainer {
+ public:
+  // Loads the data, then resumes from config.output's checkpoint if one
+  // exists, else initialises a model for the first training body's skeleton.
+  explicit Trainer(TrainerConfig config);
+
+  // Trains up to config.epochs (counting resumed ones), or up to
+  // `stop_after` epochs when that is smaller (an interrupted run), checkpointing
+  // after each epoch; returns the last epoch's result.
+  EpochResult run(int64_t stop_after = 0);
+  EpochResult train_epoch();
+  MetricsResult validate(const Dataset& data);
+
+  std::shared_ptr<runtime::Model> export_model() const;
+  int64_t epoch() const { return epoch_; }
+  Network& network() { return network_; }
+  const Dataset& training_data() const { return train_; }
+
+ private:
+  struct Garments;  // losses' per-garment data (geometry, bands)
+  torch::Tensor batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames, double* vertex_cm);
+  void save_checkpoint() const;
+  bool load_checkpoint();
+  void log(const EpochResult& r) const;
+
+  TrainerConfig config_;
+  Dataset train_, validation_;
+  std::shared_ptr<runtime::Model> initial_;
+  Network network_{nullptr};
+  std::unique_ptr<Adamax> optimizer_;
+  ScheduleState schedule_;
+  std::vector<std::unique_ptr<BoundGarment>> bound_train_, bound_validation_;
+  std::map<const Garment*, std::pair<std::unique_ptr<GarmentGeometry>, std::unique_ptr<BandProjector>>>
+      garments_;
+  std::mt19937_64 rng_;
+  int64_t epoch_ = 0;
+  MetricsResult last_validation_;
+};
+
+}  // namespace pleat::training
