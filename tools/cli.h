@@ -60,5 +60,8 @@ int run_inspect(const Args& args);
 int run_pose(const Args& args);
 int run_init_model(const Args& args);
 int run_bake(const Args& args);
+// `train` / `export`: runs pleat-train from the same folder with the same
+// arguments (the trainer links libtorch; this CLI only the C API).
+int run_trainer(int argc, char** argv);
 
 }  // namespace pleat_cli
