@@ -115,7 +115,7 @@ NetworkImpl::NetworkImpl(const runtime::Model& model) : spec_(model) {
 torch::Tensor NetworkImpl::stack(std::vector<GraphAttention>& layers, const torch::Tensor& x,
                                  const nn::AttentionGraph& graph) {
   torch::Tensor h = x;
-  for (GraphAttention& l : layers) h = l->forward(h, graph);
+  for (GraphAttention& l : layers) h = l->forward(h, graph, generic_);
   return h;
 }
 

@@ -74,6 +74,10 @@ class NetworkImpl : public torch::nn::Module {
   std::shared_ptr<runtime::Model> to_model() const;
   const runtime::Model& spec() const { return spec_; }
 
+  // Graph layers through the generic index_add formulation instead of the
+  // custom op (the benchmark's baseline).
+  void set_generic_attention(bool generic) { generic_ = generic; }
+
   // Parameter groups (the schedule freezes the encoders).
   std::vector<torch::Tensor> encoder_parameters() const;
 
@@ -89,6 +93,7 @@ class NetworkImpl : public torch::nn::Module {
   std::vector<GraphAttention> garment_, blend_, refinement_;
   std::vector<std::array<torch::Tensor, 4>> gru_;  // w_ih, w_hh, b_ih, b_hh
   torch::Tensor skinning_weight_, skinning_bias_;
+  bool generic_ = false;
 };
 TORCH_MODULE(Network);
 
