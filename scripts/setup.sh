@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config binutils
   libeigen3-dev libsuitesparse-dev libspectra-dev libopenblas-dev
   libassimp-dev libflatbuffers-dev flatbuffers-compiler libgtest-dev libminizip-dev zlib1g-dev
-  python3-numpy python3-scipy
+  python3-numpy python3-scipy python3-matplotlib
   nlohmann-json3-dev
   libtorch-dev libopenblas0-pthread
 )

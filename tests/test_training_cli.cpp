@@ -61,3 +61,22 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   EXPECT_NE(text.find("bad.json"), std::string::npos) << text;
   EXPECT_NE(text.find("model.variant"), std::string::npos) << text;
 }
+
+TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
+  const std::string root = pleat_test::temp_dir("training_ablation");
+  pleat_test::write_skirt_walk(root);
+  std::ofstream(root + "/schedule.json") << R"({"phases": [{"name": "supervised",
+      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15}}]})";
+  std::ofstream(root + "/config.json") << R"({"train": ["skirt_walk"], "validation": ["skirt_walk"],
+      "schedule": "schedule.json", "output": "ablation", "epochs": 1, "batch_frames": 16, "progress": false,
+      "plot": false, "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
+                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(cli() + " ablation " + root + "/config.json 2>&1", &text), 0) << text;
+  for (const char* run : {"gat_freqdiv", "lgat_freqdiv", "flexigat_plain", "flexigat_freqdiv"}) {
+    EXPECT_NE(text.find(run), std::string::npos) << text;
+    EXPECT_TRUE(std::filesystem::exists(root + "/ablation/" + run + "/checkpoint.json")) << run;
+  }
+  EXPECT_EQ(lines(root + "/ablation/ablation.md"), 6) << "header, rule and four rows";
+  EXPECT_EQ(lines(root + "/ablation/ablation.csv"), 5);
+}

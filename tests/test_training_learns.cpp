@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "runtime/model_file.h"
 #include "support/synthetic_sequence.h"
@@ -54,6 +55,12 @@ TEST(TrainingLearns, SyntheticSkirtErrorDropsTenfoldAndTheExportMatches) {
   EXPECT_GT(initial, 1.0) << "the untrained model does not know the offset";
   EXPECT_LT(last.validation.e_verts_cm, initial / 10.0);
   EXPECT_TRUE(std::filesystem::exists(root + "/run/log.csv"));
+  {
+    std::ifstream png(root + "/run/curves.png", std::ios::binary);
+    char magic[8] = {};
+    png.read(magic, 8);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the curves are plotted";
+  }
 
   // The export reproduces the trainer in the runtime.
   const std::shared_ptr<runtime::Model> model = trainer.export_model();

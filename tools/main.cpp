@@ -35,6 +35,7 @@ const char* kUsage =
     "      --first N --frames N         frame range (earlier frames are history)\n"
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
     "  export config.json -o m.pleat    the latest checkpoint as a model file (pleat-train)\n"
+    "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
     if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
     if (command == "init-model") return run_init_model(parse_args(argc, argv, 2, {}));
     if (command == "bake") return run_bake(parse_args(argc, argv, 2, {}));
-    if (command == "train" || command == "export") return run_trainer(argc, argv);
+    if (command == "train" || command == "export" || command == "ablation") return run_trainer(argc, argv);
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {
     std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());

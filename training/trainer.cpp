@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -81,6 +82,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
     c.seed = j.value("seed", c.seed);
     c.frequency_division = j.value("frequency_division", c.frequency_division);
     c.progress = j.value("progress", c.progress);
+    c.plot = j.value("plot", c.plot);
     if (j.contains("model")) {
       const Json& m = j["model"];
       c.model.variant = variant_named(m.value("variant", std::string("flexigat")), path);
@@ -264,7 +266,17 @@ EpochResult Trainer::run(int64_t stop_after) {
     log(last);
     save_checkpoint();
   }
+  if (config_.plot && epoch_ > 0) plot();
   return last;
+}
+
+void Trainer::plot() const {
+  // A warning, not a failure: the model is trained whether or not a plot exists.
+  const std::string command = "/usr/bin/python3 '" PLEAT_SCRIPTS_DIR "/plot_training.py' '" + config_.output +
+                              "/log.csv' '" + config_.output + "/curves.png'";
+  if (std::system(command.c_str()) != 0)
+    std::fprintf(stderr, "pleat-train: could not plot %s/curves.png (needs python3-matplotlib)\n",
+                 config_.output.c_str());
 }
 
 void Trainer::log(const EpochResult& r) const {

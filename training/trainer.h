@@ -31,6 +31,7 @@ struct TrainerConfig {
   bool frequency_division = true;  // false: plain vertex loss (the ablation without FreqDiv)
   runtime::ModelInitOptions model;
   bool progress = true;  // a progress bar on stderr
+  bool plot = true;      // <output>/curves.png from log.csv after each run (matplotlib)
 };
 
 // Reads a configuration file (JSON; paths relative to the file).
@@ -72,6 +73,7 @@ class Trainer {
   void save_checkpoint() const;
   bool load_checkpoint();
   void log(const EpochResult& r) const;
+  void plot() const;
 
   TrainerConfig config_;
   Dataset train_, validation_;

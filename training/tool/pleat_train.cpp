@@ -5,11 +5,14 @@
 //   pleat-train train config.json [--epochs N]   train (resumes from the output's checkpoint),
 //                                                then write <output>/model.pleat
 //   pleat-train export config.json -o model.pleat  the latest checkpoint as a model file
+//   pleat-train ablation config.json              the four runs of the paper's Table I and
+//                                                <output>/ablation.md
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <string>
 
+#include "ablation.h"
 #include "core/error.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
@@ -19,6 +22,7 @@ namespace {
 const char* kUsage =
     "usage: pleat-train train config.json [--epochs N]\n"
     "       pleat-train export config.json -o model.pleat\n"
+    "       pleat-train ablation config.json\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -51,6 +55,15 @@ int export_model(int argc, char** argv) {
   return 0;
 }
 
+int ablation(int argc, char** argv) {
+  if (argc != 3) throw std::invalid_argument("ablation needs a config file");
+  const auto rows = pleat::training::run_ablation(pleat::training::read_trainer_config(argv[2]));
+  for (const auto& r : rows)
+    std::printf("%-18s E_verts %.3f cm  E_mid %.3f cm\n", r.name.c_str(), r.result.validation.e_verts_cm,
+                r.result.validation.e_mid_cm);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -58,6 +71,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "train") return train(argc, argv);
     if (command == "export") return export_model(argc, argv);
+    if (command == "ablation") return ablation(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
   } catch (const pleat::Error& e) {
