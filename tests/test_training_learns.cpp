@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "runtime/model_file.h"
 #include "support/synthetic_sequence.h"
@@ -102,4 +103,28 @@ TEST(TrainingLearns, ResumedRunContinuesExactly) {
   const auto a = straight.network()->parameters(), b = second.network()->parameters();
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << "parameter " << i;
+}
+
+TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {
+  const std::string root = pleat_test::temp_dir("training_batches");
+  const std::string a = pleat_test::write_skirt_walk(root + "/a"),
+                    b = pleat_test::write_skirt_walk(root + "/b");
+  const Dataset data({a, b});
+  ASSERT_EQ(data.sequences().size(), 2u);
+  EXPECT_EQ(data.sequences()[0].garment, data.sequences()[1].garment) << "one garment name, prepared once";
+  std::mt19937_64 rng(5);
+  const auto batches = data.epoch(16, rng);
+  std::set<std::pair<size_t, int64_t>> seen;
+  size_t mixed = 0;
+  for (const Dataset::Batch& batch : batches) {
+    size_t frames = 0;
+    for (const Dataset::Part& part : batch) {
+      frames += part.frames.size();
+      for (int64_t f : part.frames) EXPECT_TRUE(seen.insert({part.sequence, f}).second) << "frame twice";
+    }
+    EXPECT_LE(frames, 16u);
+    mixed += batch.size() > 1;
+  }
+  EXPECT_EQ(seen.size(), size_t(data.frame_count()));
+  EXPECT_GT(mixed, 0u) << "batches draw frames from both sequences";
 }

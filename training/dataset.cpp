@@ -84,18 +84,19 @@ int64_t Dataset::frame_count() const {
 }
 
 std::vector<Dataset::Batch> Dataset::epoch(int64_t batch_frames, std::mt19937_64& rng) const {
+  std::vector<std::pair<size_t, int64_t>> all;
+  for (size_t s = 0; s < sequences_.size(); ++s)
+    for (int64_t f = 0; f < sequences_[s].frame_count(); ++f) all.emplace_back(s, f);
+  std::shuffle(all.begin(), all.end(), rng);
   std::vector<Batch> batches;
-  for (size_t s = 0; s < sequences_.size(); ++s) {
-    std::vector<int64_t> frames(static_cast<size_t>(sequences_[s].frame_count()));
-    for (size_t f = 0; f < frames.size(); ++f) frames[f] = static_cast<int64_t>(f);
-    std::shuffle(frames.begin(), frames.end(), rng);
-    for (size_t f = 0; f < frames.size(); f += static_cast<size_t>(batch_frames))
-      batches.push_back(
-          {s, std::vector<int64_t>(frames.begin() + static_cast<std::ptrdiff_t>(f),
-                                   frames.begin() + static_cast<std::ptrdiff_t>(
-                                                        std::min(frames.size(), f + size_t(batch_frames))))});
+  for (size_t start = 0; start < all.size(); start += static_cast<size_t>(batch_frames)) {
+    const size_t end = std::min(all.size(), start + static_cast<size_t>(batch_frames));
+    std::map<size_t, std::vector<int64_t>> by_sequence;
+    for (size_t i = start; i < end; ++i) by_sequence[all[i].first].push_back(all[i].second);
+    Batch batch;
+    for (auto& [sequence, frames] : by_sequence) batch.push_back({sequence, std::move(frames)});
+    batches.push_back(std::move(batch));
   }
-  std::shuffle(batches.begin(), batches.end(), rng);
   return batches;
 }
 

@@ -41,13 +41,15 @@ class Dataset {
   const std::vector<TrainingSequence>& sequences() const { return sequences_; }
   int64_t frame_count() const;
 
-  // One epoch's mini-batches: every frame once, shuffled with `rng`, grouped
-  // by sequence (a batch's frames share a garment and a body) into batches
-  // of at most `batch_frames`.
-  struct Batch {
+  // One epoch's mini-batches: every frame of every sequence once, shuffled
+  // together with `rng` and cut into batches of at most `batch_frames`, so a
+  // batch mixes garments, bodies and motions. Within a batch the frames are
+  // grouped by sequence (one network pass per group).
+  struct Part {
     size_t sequence;
     std::vector<int64_t> frames;
   };
+  using Batch = std::vector<Part>;
   std::vector<Batch> epoch(int64_t batch_frames, std::mt19937_64& rng) const;
 
  private:

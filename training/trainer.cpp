@@ -181,20 +181,27 @@ EpochResult Trainer::train_epoch() {
   double loss_sum = 0, vertex_sum = 0;
   int64_t frames = 0;
   for (size_t b = 0; b < batches.size(); ++b) {
-    const TrainingSequence& s = train_.sequences()[batches[b].sequence];
-    double vertex_cm = 0;
     optimizer_->zero_grad();
-    const torch::Tensor loss = batch_loss(s, batches[b].frames, &vertex_cm);
-    loss.backward();
+    // One pass per sequence in the batch; the batch's loss is the
+    // frame-weighted mean of the parts, one optimiser step for all of them.
+    int64_t batch_frames = 0;
+    for (const Dataset::Part& part : batches[b]) batch_frames += static_cast<int64_t>(part.frames.size());
+    double batch_loss_value = 0;
+    for (const Dataset::Part& part : batches[b]) {
+      double vertex_cm = 0;
+      const double share = double(part.frames.size()) / double(batch_frames);
+      const torch::Tensor loss =
+          batch_loss(train_.sequences()[part.sequence], part.frames, &vertex_cm) * share;
+      loss.backward();
+      batch_loss_value += loss.item<double>();
+      vertex_sum += vertex_cm * double(part.frames.size());
+    }
     optimizer_->step();
-    const double value = loss.item<double>();
-    if (!std::isfinite(value))
+    if (!std::isfinite(batch_loss_value))
       fail(PLEAT_ERROR_NUMERICAL,
            "training diverged: the loss of epoch " + std::to_string(r.epoch) + " is not finite");
-    const auto n = static_cast<int64_t>(batches[b].frames.size());
-    loss_sum += value * static_cast<double>(n);
-    vertex_sum += vertex_cm * static_cast<double>(n);
-    frames += n;
+    loss_sum += batch_loss_value * double(batch_frames);
+    frames += batch_frames;
     if (config_.progress) progress(r.epoch, config_.epochs, b + 1, batches.size(), loss_sum / double(frames));
   }
   r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
