@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "core/topology.h"
 #include "nn/graph_attention.h"
 #include "nn/gru.h"
@@ -26,18 +27,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 int g_reps = 21;
-
-double median_seconds(const std::function<void()>& f, int reps) {
-  f();  // warm-up (page faults, BLAS thread start)
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    const auto s = Clock::now();
-    f();
-    t.push_back(std::chrono::duration<double>(Clock::now() - s).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
 
 MatrixRM random_matrix(Index r, Index c, std::mt19937& rng, float scale = 1.0f) {
   std::uniform_real_distribution<float> u(-scale, scale);
@@ -79,7 +68,7 @@ GraphAttentionLayer make_layer(AttentionVariant variant, Index in, Index out, in
 double sgemm_gflops(Index m, Index k, Index n, std::mt19937& rng) {
   const MatrixRM a = random_matrix(m, k, rng), b = random_matrix(k, n, rng);
   MatrixRM c(m, n);
-  const double s = median_seconds([&] { c.noalias() = a * b; }, g_reps);
+  const double s = pleat_bench::median_seconds([&] { c.noalias() = a * b; }, g_reps);
   const double gf = 2.0 * double(m) * double(k) * double(n) / s * 1e-9;
   std::printf("  sgemm %5ldx%4ldx%4ld  %8.1f us  %6.1f GFLOP/s\n", long(m), long(k), long(n), s * 1e6, gf);
   return gf;
@@ -140,15 +129,16 @@ int main(int argc, char** argv) {
       GraphAttentionWorkspace ws;
       ws.reserve(layer, graph);
       const double t_blas2 =
-          median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
+          pleat_bench::median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
       MatrixRM z(n, layer.projected_width());
-      const double t_gemm = median_seconds([&] { z.noalias() = v * layer.folded; }, g_reps);
+      const double t_gemm = pleat_bench::median_seconds([&] { z.noalias() = v * layer.folded; }, g_reps);
       double t_one, t_pool;
       {
         SingleThreadedBlas one;
-        t_one = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
-        t_pool = median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); },
-                                g_reps);
+        t_one =
+            pleat_bench::median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
+        t_pool = pleat_bench::median_seconds(
+            [&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); }, g_reps);
       }
       const double flops = 2.0 * n * double(c.in) * double(layer.projected_width()) +
                            2.0 * double(graph.edge_count()) * double(layer.weight.cols());
@@ -179,7 +169,7 @@ int main(int argc, char** argv) {
       const MatrixRM v = random_matrix(n, in, rng);
       std::vector<MatrixRM> acts;
       for (const auto& l : layers) acts.emplace_back(n, l.out_width());
-      return median_seconds(
+      return pleat_bench::median_seconds(
           [&] {
             for (size_t l = 0; l < layers.size(); ++l)
               graph_attention_forward(layers[l], graph,
@@ -220,7 +210,7 @@ int main(int argc, char** argv) {
       ws.reserve(gru, batch);
       const MatrixRM x = random_matrix(8 * batch, in, rng);
       MatrixRM out(batch, h);
-      const double s = median_seconds([&] { gru_window(gru, x, 8, out, ws); }, g_reps * 5);
+      const double s = pleat_bench::median_seconds([&] { gru_window(gru, x, 8, out, ws); }, g_reps * 5);
       double flops = 0;
       for (int l = 0; l < 3; ++l) flops += 2.0 * 8 * double(batch) * double((l == 0 ? in : h) + h) * 3 * h;
       std::printf("  batch %3ld: %8.1f us per call (%.1f us per sample), %.1f GFLOP/s\n", long(batch),
@@ -230,7 +220,7 @@ int main(int argc, char** argv) {
     ws.reserve(gru, 1);
     const MatrixRM x = random_matrix(1, in, rng);
     MatrixRM state = MatrixRM::Zero(3, h);
-    const double s = median_seconds([&] { gru_step(gru, x, state, ws); }, g_reps * 5);
+    const double s = pleat_bench::median_seconds([&] { gru_step(gru, x, state, ws); }, g_reps * 5);
     std::printf("  streaming step, batch 1: %.1f us\n", s * 1e6);
   }
 
@@ -247,7 +237,7 @@ int main(int argc, char** argv) {
     ws.reserve(mlp, rows);
     const MatrixRM x = random_matrix(rows, widths[0], rng);
     MatrixRM y(rows, 128);
-    const double s = median_seconds([&] { mlp_forward(mlp, x, y, ws); }, g_reps);
+    const double s = pleat_bench::median_seconds([&] { mlp_forward(mlp, x, y, ws); }, g_reps);
     double flops = 0;
     for (int l = 0; l < 3; ++l) flops += 2.0 * rows * double(widths[l]) * double(widths[l + 1]);
     std::printf("\nMLP [128,256,128] over %ld rows (in %ld): %.1f us, %.1f GFLOP/s (%.0f%% of peak)\n",

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "core/garment.h"
@@ -30,18 +31,6 @@ using namespace pleat::runtime;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double median_seconds(const std::function<void()>& f, int reps) {
-  f();  // warm-up
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    const auto s = Clock::now();
-    f();
-    t.push_back(std::chrono::duration<double>(Clock::now() - s).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
 
 // An open cylinder (a skirt) of rings x segments vertices around the hips.
 std::shared_ptr<const Garment> skirt(int rings, int segments, double hip_height) {
@@ -100,7 +89,7 @@ double sgemm_peak(int reps) {
     nn::MatrixRM a(m, k), b(k, n), c(m, n);
     for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = u(rng);
     for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = u(rng);
-    const double t = median_seconds([&] { c.noalias() = a * b; }, reps);
+    const double t = pleat_bench::median_seconds([&] { c.noalias() = a * b; }, reps);
     best = std::max(best, 2.0 * m * k * n / t * 1e-9);
   }
   return best;
@@ -170,8 +159,9 @@ int main(int argc, char** argv) {
            {std::tuple<Stage, const char*, double>{Stage::skinning, "skinning", flops.skinning},
             {Stage::blend_shapes, "blend-shapes", flops.blend},
             {Stage::refinement, "full", flops.refinement}}) {
-        const double t =
-            median_seconds([&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); }, reps) / 8.0;
+        const double t = pleat_bench::median_seconds(
+                             [&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); }, reps) /
+                         8.0;
         const double gflops = f / t * 1e-9;
         std::printf("%7d %7d %-12s %9.3f %9.1f %9.1f %8.1f %6.1f%%\n", n, threads, name, t * 1e3, 1.0 / t,
                     f * 1e-6, gflops, 100.0 * gflops / peak);

@@ -12,6 +12,7 @@
 #include <functional>
 
 #include "attention_op.h"
+#include "bench_support.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "core/garment.h"
@@ -22,21 +23,7 @@
 
 using namespace pleat;
 
-namespace {
-
-double median_seconds(const std::function<void()>& f, int reps) {
-  f();
-  std::vector<double> t;
-  for (int r = 0; r < reps; ++r) {
-    const auto s = std::chrono::steady_clock::now();
-    f();
-    t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
-
-}  // namespace
+namespace {}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 3) {
@@ -55,12 +42,14 @@ int main(int argc, char** argv) {
   const ImportedMesh mesh = import_mesh(repo + "/data/garments/female_elegantsuit01.obj");
   GarmentBuildOptions go;
   go.unit_scale = 0.1;
-  const auto garment = std::make_shared<const Garment>(build_garment(mesh.vertices, mesh.triangles, go, "dress"));
+  const auto garment =
+      std::make_shared<const Garment>(build_garment(mesh.vertices, mesh.triangles, go, "dress"));
   std::vector<runtime::ShapeEntry> shape;
   for (const ShapeParameter& p : body.shape) shape.push_back({p.name, float(p.default_value)});
   const auto model = runtime::initialize_model({body.skeleton.names, body.skeleton.parents}, shape, {});
   const Motion walk = retarget_motion(
-      resample_motion(read_bvh(repo + "/tests/fixtures/motion/12_03_walk_121.bvh").motion, 30.0), body.skeleton);
+      resample_motion(read_bvh(repo + "/tests/fixtures/motion/12_03_walk_121.bvh").motion, 30.0),
+      body.skeleton);
   std::vector<float> rotations, roots;
   for (int64_t f = 0; f < walk.frame_count; ++f) {
     for (int32_t j = 0; j < body.joint_count(); ++j) {
@@ -69,7 +58,8 @@ int main(int argc, char** argv) {
     }
     for (int k = 0; k < 3; ++k) roots.push_back(float(walk.root_translation(f, k)));
   }
-  const runtime::PoseSequence poses{rotations.data(), roots.data(), walk.frame_count, body.joint_count(), 30.0};
+  const runtime::PoseSequence poses{rotations.data(), roots.data(), walk.frame_count, body.joint_count(),
+                                    30.0};
   training::BoundGarment bound(*model, garment, body);
   training::Network network(*model);
   const std::vector<int64_t> frames = {4, 11, 18, 25};
@@ -77,14 +67,18 @@ int main(int argc, char** argv) {
               network->parameters().size(), static_cast<long long>(bound.vertex_count()), frames.size());
   for (bool generic : {false, true}) {
     network->set_generic_attention(generic);
-    const double t = median_seconds(
+    const double t = pleat_bench::median_seconds(
         [&] {
           network->zero_grad();
-          network->forward(bound, poses, frames, runtime::Stage::refinement).positions.pow(2).mean().backward();
+          network->forward(bound, poses, frames, runtime::Stage::refinement)
+              .positions.pow(2)
+              .mean()
+              .backward();
         },
         reps);
-    std::printf("  %-26s %8.1f ms per batch  %6.2f frames/s\n", generic ? "generic index_add" : "custom op (runtime kernel)",
-                t * 1e3, double(frames.size()) / t);
+    std::printf("  %-26s %8.1f ms per batch  %6.2f frames/s\n",
+                generic ? "generic index_add" : "custom op (runtime kernel)", t * 1e3,
+                double(frames.size()) / t);
   }
 
   // One FlexiGAT 64 -> 64 layer, 4 heads, on 8 copies of a ~3000-vertex grid.
@@ -112,10 +106,10 @@ int main(int argc, char** argv) {
   training::GraphAttention layer(spec);
   const torch::Tensor v = torch::randn({batch.node_count(), spec.in_width()}).requires_grad_(true);
   std::printf("one FlexiGAT %lld->%lld layer, 4 heads, N = %d (8 x %d), forward + backward:\n",
-              static_cast<long long>(spec.in_width()), static_cast<long long>(spec.out_width()), batch.node_count(),
-              one.node_count());
+              static_cast<long long>(spec.in_width()), static_cast<long long>(spec.out_width()),
+              batch.node_count(), one.node_count());
   for (bool generic : {false, true}) {
-    const double t = median_seconds(
+    const double t = pleat_bench::median_seconds(
         [&] {
           layer->zero_grad();
           layer->forward(v, batch, generic).pow(2).mean().backward();

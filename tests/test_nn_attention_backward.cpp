@@ -10,6 +10,7 @@
 
 #include "nn/graph_attention.h"
 #include "nn/graph_attention_backward.h"
+#include "support/chain_fixtures.h"
 
 using namespace pleat;
 using namespace pleat::nn;
@@ -22,21 +23,9 @@ struct Case {
   HeadMerge merge;
 };
 
-// A small mesh-like graph: a strip of triangles plus one isolated vertex.
-AttentionGraph strip_graph(int n) {
-  Csr csr;
-  csr.offsets = {0};
-  for (int v = 0; v < n; ++v) {
-    for (int u : {v - 2, v - 1, v + 1, v + 2})
-      if (u >= 0 && u < n - 1 && v < n - 1) csr.indices.push_back(u);
-    csr.offsets.push_back(static_cast<int32_t>(csr.indices.size()));
-  }
-  return attention_graph(csr);
-}
-
 struct Problem {
   int n = 9, heads = 2, d = 3;
-  AttentionGraph graph = strip_graph(9);
+  AttentionGraph graph = pleat_test::strip_graph(9);
   std::vector<double> z, self_coefficient, neighbour_coefficient, self_norm, neighbour_norm, r;
   Case c;
   Index zstride() const { return heads * d + 2 * heads; }
@@ -111,15 +100,15 @@ void check(Case c) {
     p.loss(&alpha, &norms, &divisors);
     std::vector<double> grad_z(p.z.size()), gs(2), gq(2), gsn(2), gnn(2);
     attention_aggregate_backward(p.params(), p.graph, p.z.data(), p.zstride(), alpha.data(),
-                                 c.lipschitz ? norms.data() : nullptr, c.lipschitz ? divisors.data() : nullptr,
-                                 p.r.data(), p.out_width(), grad_z.data(), gs.data(), gq.data(), gsn.data(),
-                                 gnn.data());
+                                 c.lipschitz ? norms.data() : nullptr,
+                                 c.lipschitz ? divisors.data() : nullptr, p.r.data(), p.out_width(),
+                                 grad_z.data(), gs.data(), gq.data(), gsn.data(), gnn.data());
     double largest = 0;
     for (size_t i = 0; i < p.z.size(); ++i) {
       const double want = numeric(p, &p.z[i]);
       largest = std::max(largest, std::abs(want));
-      ASSERT_NEAR(grad_z[i], want, 1e-6 * (1 + std::abs(want))) << "dL/dZ[" << i / p.zstride() << ", "
-                                                                 << i % p.zstride() << "] seed " << seed;
+      ASSERT_NEAR(grad_z[i], want, 1e-6 * (1 + std::abs(want)))
+          << "dL/dZ[" << i / p.zstride() << ", " << i % p.zstride() << "] seed " << seed;
     }
     EXPECT_GT(largest, 0.1) << "the check is not vacuous";
     for (int h = 0; h < 2; ++h) {
@@ -135,9 +124,21 @@ void check(Case c) {
 
 }  // namespace
 
-TEST(NnAttentionBackward, GatConcatMatchesFiniteDifferences) { check({false, false, HeadMerge::concat}); }
-TEST(NnAttentionBackward, GatMeanMatchesFiniteDifferences) { check({false, false, HeadMerge::mean}); }
-TEST(NnAttentionBackward, LgatConcatMatchesFiniteDifferences) { check({true, false, HeadMerge::concat}); }
-TEST(NnAttentionBackward, LgatMeanMatchesFiniteDifferences) { check({true, false, HeadMerge::mean}); }
-TEST(NnAttentionBackward, FlexiGatConcatMatchesFiniteDifferences) { check({false, true, HeadMerge::concat}); }
-TEST(NnAttentionBackward, FlexiGatMeanMatchesFiniteDifferences) { check({false, true, HeadMerge::mean}); }
+TEST(NnAttentionBackward, GatConcatMatchesFiniteDifferences) {
+  check({false, false, HeadMerge::concat});
+}
+TEST(NnAttentionBackward, GatMeanMatchesFiniteDifferences) {
+  check({false, false, HeadMerge::mean});
+}
+TEST(NnAttentionBackward, LgatConcatMatchesFiniteDifferences) {
+  check({true, false, HeadMerge::concat});
+}
+TEST(NnAttentionBackward, LgatMeanMatchesFiniteDifferences) {
+  check({true, false, HeadMerge::mean});
+}
+TEST(NnAttentionBackward, FlexiGatConcatMatchesFiniteDifferences) {
+  check({false, true, HeadMerge::concat});
+}
+TEST(NnAttentionBackward, FlexiGatMeanMatchesFiniteDifferences) {
+  check({false, true, HeadMerge::mean});
+}

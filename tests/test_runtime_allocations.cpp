@@ -13,6 +13,7 @@
 #include "runtime/instance.h"
 #include "runtime/model_init.h"
 #include "spectral/bands.h"
+#include "support/chain_fixtures.h"
 
 namespace {
 std::atomic<long> allocations{0};
@@ -58,21 +59,7 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
 #if defined(__SANITIZE_ADDRESS__)
   GTEST_SKIP() << "the allocator cannot be interposed under AddressSanitizer (the Release build runs this)";
 #endif
-  Body body;
-  body.source = "chain";
-  body.skeleton.names = {"hips", "spine", "arm"};
-  body.skeleton.parents = {-1, 0, 1};
-  body.skeleton.rest_translation.resize(3, 3);
-  body.skeleton.rest_translation << 0, 1, 0, 0, 0.3, 0, 0.3, 0.1, 0;
-  body.skeleton.rest_rotation.assign(3, Eigen::Quaterniond::Identity());
-  body.rest.vertices.resize(3, 3);
-  body.rest.vertices << 0, 0.9, 0.1, 0, 1.3, 0.1, 0.3, 1.4, 0.1;
-  body.rest.triangles.resize(1, 3);
-  body.rest.triangles << 0, 1, 2;
-  body.weights.joint_count = 3;
-  body.weights.offsets = {0, 1, 2, 3};
-  body.weights.joints = {0, 1, 2};
-  body.weights.weights = {1, 1, 1};
+  const Body body = pleat_test::chain_body();
 
   // A 12 x 12 grid garment, prepared (bands), and a small model.
   const int side = 12;

@@ -9,22 +9,11 @@
 
 #include "attention_op.h"
 #include "nn/graph_attention.h"
+#include "support/chain_fixtures.h"
 
 using namespace pleat;
 
 namespace {
-
-// A strip of triangles plus one isolated vertex.
-nn::AttentionGraph strip_graph(int n) {
-  Csr csr;
-  csr.offsets = {0};
-  for (int v = 0; v < n; ++v) {
-    for (int u : {v - 2, v - 1, v + 1, v + 2})
-      if (u >= 0 && u < n - 1 && v < n - 1) csr.indices.push_back(u);
-    csr.offsets.push_back(static_cast<int32_t>(csr.indices.size()));
-  }
-  return nn::attention_graph(csr);
-}
 
 nn::GraphAttentionLayer random_layer(nn::AttentionVariant variant, nn::HeadMerge merge, uint32_t seed) {
   std::mt19937 rng(seed);
@@ -60,7 +49,7 @@ struct Variant {
 };
 
 void check_gradients(Variant c) {
-  const nn::AttentionGraph graph = strip_graph(9);
+  const nn::AttentionGraph graph = pleat_test::strip_graph(9);
   training::GraphAttention layer(random_layer(c.variant, c.merge, 7));
   layer->to(torch::kFloat64);
   torch::Tensor v = random_input(9, 5, torch::kFloat64, 3).requires_grad_(true);
@@ -112,7 +101,7 @@ TEST(TrainingAttention, FlexiGatGradientsMatchFiniteDifferences) {
 // Float forward equals the runtime's layer; the generic index_add version
 // gives the same values and gradients; to_layer() round-trips the weights.
 TEST(TrainingAttention, MatchesTheRuntimeLayerAndTheGenericOp) {
-  const nn::AttentionGraph graph = strip_graph(9);
+  const nn::AttentionGraph graph = pleat_test::strip_graph(9);
   for (auto variant : {nn::AttentionVariant::gat, nn::AttentionVariant::lgat, nn::AttentionVariant::flexigat})
     for (auto merge : {nn::HeadMerge::concat, nn::HeadMerge::mean}) {
       const nn::GraphAttentionLayer runtime = random_layer(variant, merge, 11);

@@ -18,31 +18,13 @@
 #include "runtime/instance.h"
 #include "runtime/model_file.h"
 #include "runtime/model_init.h"
+#include "support/chain_fixtures.h"
 #include "support/test_support.h"
 
 using namespace pleat;
 using namespace pleat::runtime;
 
 namespace {
-
-Body chain_body() {
-  Body b;
-  b.source = "chain";
-  b.skeleton.names = {"hips", "spine", "arm"};
-  b.skeleton.parents = {-1, 0, 1};
-  b.skeleton.rest_translation.resize(3, 3);
-  b.skeleton.rest_translation << 0, 1, 0, 0, 0.3, 0, 0.3, 0.1, 0;
-  b.skeleton.rest_rotation.assign(3, Eigen::Quaterniond::Identity());
-  b.rest.vertices.resize(4, 3);
-  b.rest.vertices << -0.1, 0.9, 0.1, 0.1, 0.9, 0.1, 0, 1.3, 0.1, 0.3, 1.4, 0.1;
-  b.rest.triangles.resize(2, 3);
-  b.rest.triangles << 0, 1, 2, 1, 3, 2;
-  b.weights.joint_count = 3;
-  b.weights.offsets = {0, 1, 2, 4, 5};
-  b.weights.joints = {0, 0, 0, 1, 2};
-  b.weights.weights = {1, 1, 0.5, 0.5, 1};
-  return b;
-}
 
 std::shared_ptr<const Garment> grid_garment(int side) {
   Points3d v(side * side, 3);
@@ -141,7 +123,7 @@ ModelInitOptions small_options() {
 }  // namespace
 
 TEST(TrainingNetwork, FreshModelMatchesTheRuntime) {
-  const Body body = chain_body();
+  const Body body = pleat_test::chain_body();
   const auto garment = grid_garment(8);
   for (auto variant :
        {nn::AttentionVariant::gat, nn::AttentionVariant::lgat, nn::AttentionVariant::flexigat}) {
@@ -154,7 +136,7 @@ TEST(TrainingNetwork, FreshModelMatchesTheRuntime) {
 }
 
 TEST(TrainingNetwork, TrainedAndExportedModelMatchesTheRuntime) {
-  const Body body = chain_body();
+  const Body body = pleat_test::chain_body();
   const auto garment = grid_garment(8);
   const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, small_options());
   training::Network network(*model);
