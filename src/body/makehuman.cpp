@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <unordered_map>
@@ -76,164 +77,30 @@ bool next_number(std::string_view s, size_t* pos, T* value) {
 
 // ----------------------------------------------------------------- JSON ----
 
-struct Json {
-  enum class Type { null, boolean, number, string, array, object } type = Type::null;
-  bool boolean = false;
-  double number = 0.0;
-  std::string string;
-  std::vector<Json> items;
-  std::vector<std::pair<std::string, Json>> members;  // file order
-  const Json* get(const std::string& key) const {
-    for (const auto& m : members)
-      if (m.first == key) return &m.second;
-    return nullptr;
-  }
-};
+// Object members keep their file order: the rig's bone order decides the
+// skeleton's (children in file order).
+using Json = nlohmann::ordered_json;
 
-class JsonParser {
- public:
-  JsonParser(const std::string& text, const std::string& source) : s_(text), source_(source) {}
-  Json parse() {
-    Json v = value(0);
-    skip();
-    if (at_ != s_.size()) error("trailing characters");
-    return v;
+Json parse_json(const std::string& path) {
+  try {
+    return Json::parse(read_text(path));
+  } catch (const Json::parse_error& e) {
+    fail(PLEAT_ERROR_FORMAT, path + ": not valid JSON: " + e.what());
   }
+}
 
- private:
-  [[noreturn]] void error(const std::string& what) const {
-    fail(PLEAT_ERROR_FORMAT, source_ + ": JSON " + what + " at byte " + std::to_string(at_));
-  }
-  void skip() {
-    while (at_ < s_.size() && (s_[at_] == ' ' || s_[at_] == '\n' || s_[at_] == '\r' || s_[at_] == '\t'))
-      ++at_;
-  }
-  bool literal(const char* word) {
-    const size_t n = std::char_traits<char>::length(word);
-    if (s_.compare(at_, n, word) != 0) return false;
-    at_ += n;
-    return true;
-  }
-  std::string str() {
-    ++at_;  // opening quote
-    std::string out;
-    while (true) {
-      if (at_ >= s_.size()) error("unterminated string");
-      char c = s_[at_++];
-      if (c == '"') return out;
-      if (c != '\\') {
-        out += c;
-        continue;
-      }
-      if (at_ >= s_.size()) error("unterminated string");
-      c = s_[at_++];
-      switch (c) {
-        case 'n': out += '\n'; break;
-        case 't': out += '\t'; break;
-        case 'r': out += '\r'; break;
-        case 'b': out += '\b'; break;
-        case 'f': out += '\f'; break;
-        case 'u': {
-          if (at_ + 4 > s_.size()) error("bad \\u escape");
-          unsigned code = 0;
-          auto r = std::from_chars(s_.data() + at_, s_.data() + at_ + 4, code, 16);
-          if (r.ec != std::errc() || r.ptr != s_.data() + at_ + 4) error("bad \\u escape");
-          at_ += 4;
-          if (code < 0x80) {
-            out += static_cast<char>(code);
-          } else if (code < 0x800) {
-            out += static_cast<char>(0xC0 | (code >> 6));
-            out += static_cast<char>(0x80 | (code & 0x3F));
-          } else {  // surrogate halves are kept as separate 3-byte sequences
-            out += static_cast<char>(0xE0 | (code >> 12));
-            out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
-            out += static_cast<char>(0x80 | (code & 0x3F));
-          }
-          break;
-        }
-        default: out += c;  // \" \\ \/
-      }
-    }
-  }
-  Json value(int depth) {
-    if (depth > 64) error("nesting too deep");
-    skip();
-    if (at_ >= s_.size()) error("unexpected end");
-    Json v;
-    const char c = s_[at_];
-    if (c == '{') {
-      v.type = Json::Type::object;
-      ++at_;
-      skip();
-      if (at_ < s_.size() && s_[at_] == '}') {
-        ++at_;
-        return v;
-      }
-      while (true) {
-        skip();
-        if (at_ >= s_.size() || s_[at_] != '"') error("expected a key");
-        std::string key = str();
-        skip();
-        if (at_ >= s_.size() || s_[at_] != ':') error("expected ':'");
-        ++at_;
-        v.members.emplace_back(std::move(key), value(depth + 1));
-        skip();
-        if (at_ < s_.size() && s_[at_] == ',') {
-          ++at_;
-          continue;
-        }
-        if (at_ < s_.size() && s_[at_] == '}') {
-          ++at_;
-          return v;
-        }
-        error("expected ',' or '}'");
-      }
-    }
-    if (c == '[') {
-      v.type = Json::Type::array;
-      ++at_;
-      skip();
-      if (at_ < s_.size() && s_[at_] == ']') {
-        ++at_;
-        return v;
-      }
-      while (true) {
-        v.items.push_back(value(depth + 1));
-        skip();
-        if (at_ < s_.size() && s_[at_] == ',') {
-          ++at_;
-          continue;
-        }
-        if (at_ < s_.size() && s_[at_] == ']') {
-          ++at_;
-          return v;
-        }
-        error("expected ',' or ']'");
-      }
-    }
-    if (c == '"') {
-      v.type = Json::Type::string;
-      v.string = str();
-      return v;
-    }
-    if (literal("null")) return v;
-    if (literal("true") || literal("false")) {
-      v.type = Json::Type::boolean;
-      v.boolean = s_[at_ - 1] == 'e' && s_[at_ - 2] == 'u';
-      return v;
-    }
-    v.type = Json::Type::number;
-    const char* b = s_.data() + at_;
-    auto r = std::from_chars(b, s_.data() + s_.size(), v.number);
-    if (r.ec != std::errc()) error("bad value");
-    at_ += static_cast<size_t>(r.ptr - b);
-    return v;
-  }
+// The member `key` of an object, or null.
+const Json* member(const Json& object, const char* key) {
+  if (!object.is_object()) return nullptr;
+  const auto it = object.find(key);
+  return it == object.end() ? nullptr : &*it;
+}
 
-  const std::string& s_;
-  std::string source_;
-  size_t at_ = 0;
-};
+bool is_index(const Json& v, int32_t count) {
+  if (!v.is_number()) return false;
+  const double x = v.get<double>();
+  return x >= 0 && x < count && x == std::floor(x);
+}
 
 // --------------------------------------------------------------- tokens ----
 
@@ -556,27 +423,27 @@ namespace {
 // file order) and the head vertex group of each bone.
 void parse_rig(const std::string& path, int32_t vertex_count, Skeleton* skeleton,
                std::vector<std::vector<int32_t>>* joint_vertices) {
-  const Json root = JsonParser(read_text(path), path).parse();
-  const Json* bones = root.get("bones");
-  const Json* joints = root.get("joints");
-  if (!bones || bones->type != Json::Type::object || bones->members.empty())
-    fail(PLEAT_ERROR_FORMAT, path + ": no 'bones' object");
-  if (!joints || joints->type != Json::Type::object) fail(PLEAT_ERROR_FORMAT, path + ": no 'joints' object");
+  const Json root = parse_json(path);
+  const Json* bones = member(root, "bones");
+  const Json* joints = member(root, "joints");
+  if (!bones || !bones->is_object() || bones->empty()) fail(PLEAT_ERROR_FORMAT, path + ": no 'bones' object");
+  if (!joints || !joints->is_object()) fail(PLEAT_ERROR_FORMAT, path + ": no 'joints' object");
+  std::vector<std::pair<std::string, const Json*>> bone_list;
+  for (const auto& [name, bone] : bones->items()) bone_list.emplace_back(name, &bone);
   std::map<std::string, size_t> index;
-  for (size_t b = 0; b < bones->members.size(); ++b) index[bones->members[b].first] = b;
-  std::vector<std::vector<size_t>> children(bones->members.size());
+  for (size_t b = 0; b < bone_list.size(); ++b) index[bone_list[b].first] = b;
+  std::vector<std::vector<size_t>> children(bone_list.size());
   std::vector<size_t> roots;
-  for (size_t b = 0; b < bones->members.size(); ++b) {
-    const auto& [name, bone] = bones->members[b];
-    const Json* parent = bone.get("parent");
-    if (!parent || parent->type == Json::Type::null ||
-        (parent->type == Json::Type::string && parent->string.empty())) {
+  for (size_t b = 0; b < bone_list.size(); ++b) {
+    const auto& [name, bone] = bone_list[b];
+    const Json* parent = member(*bone, "parent");
+    if (!parent || parent->is_null() || (parent->is_string() && parent->get<std::string>().empty())) {
       roots.push_back(b);
       continue;
     }
-    if (parent->type != Json::Type::string || !index.count(parent->string))
+    if (!parent->is_string() || !index.count(parent->get<std::string>()))
       fail(PLEAT_ERROR_FORMAT, path + ": bone '" + name + "' has an unknown parent");
-    children[index[parent->string]].push_back(b);
+    children[index[parent->get<std::string>()]].push_back(b);
   }
   if (roots.size() != 1)
     fail(PLEAT_ERROR_FORMAT,
@@ -592,26 +459,25 @@ void parse_rig(const std::string& path, int32_t vertex_count, Skeleton* skeleton
     const auto me = static_cast<int32_t>(order.size() - 1);
     for (auto it = children[b].rbegin(); it != children[b].rend(); ++it) stack.push_back({*it, me});
   }
-  if (order.size() != bones->members.size())
-    fail(PLEAT_ERROR_FORMAT, path + ": " + std::to_string(bones->members.size() - order.size()) +
+  if (order.size() != bone_list.size())
+    fail(PLEAT_ERROR_FORMAT, path + ": " + std::to_string(bone_list.size() - order.size()) +
                                  " bones are not connected to the root (a parent cycle)");
   for (size_t j = 0; j < order.size(); ++j) {
-    const auto& [name, bone] = bones->members[order[j]];
+    const auto& [name, bone] = bone_list[order[j]];
     skeleton->names.push_back(name);
     skeleton->parents.push_back(parent_of[j]);
-    const Json* head = bone.get("head");
-    if (!head || head->type != Json::Type::string)
-      fail(PLEAT_ERROR_FORMAT, path + ": bone '" + name + "' has no 'head'");
-    const Json* group = joints->get(head->string);
-    if (!group || group->type != Json::Type::array || group->items.empty())
+    const Json* head = member(*bone, "head");
+    if (!head || !head->is_string()) fail(PLEAT_ERROR_FORMAT, path + ": bone '" + name + "' has no 'head'");
+    const std::string head_name = head->get<std::string>();
+    const Json* group = member(*joints, head_name.c_str());
+    if (!group || !group->is_array() || group->empty())
       fail(PLEAT_ERROR_FORMAT,
-           path + ": joint '" + head->string + "' of bone '" + name + "' has no vertex list");
+           path + ": joint '" + head_name + "' of bone '" + name + "' has no vertex list");
     std::vector<int32_t> vertices;
-    for (const Json& v : group->items) {
-      if (v.type != Json::Type::number || v.number < 0 || v.number >= vertex_count ||
-          v.number != std::floor(v.number))
-        fail(PLEAT_ERROR_FORMAT, path + ": joint '" + head->string + "' lists a bad vertex index");
-      vertices.push_back(static_cast<int32_t>(v.number));
+    for (const Json& v : *group) {
+      if (!is_index(v, vertex_count))
+        fail(PLEAT_ERROR_FORMAT, path + ": joint '" + head_name + "' lists a bad vertex index");
+      vertices.push_back(v.get<int32_t>());
     }
     joint_vertices->push_back(std::move(vertices));
   }
@@ -624,25 +490,22 @@ void parse_rig(const std::string& path, int32_t vertex_count, Skeleton* skeleton
 // (normalised; vertices without any weight go to the root and are reported).
 SkinWeights parse_weights(const std::string& path, const Skeleton& skeleton, int32_t vertex_count,
                           std::vector<int32_t>* unweighted) {
-  const Json root = JsonParser(read_text(path), path).parse();
-  const Json* weights = root.get("weights");
-  if (!weights || weights->type != Json::Type::object)
-    fail(PLEAT_ERROR_FORMAT, path + ": no 'weights' object");
+  const Json root = parse_json(path);
+  const Json* weights = member(root, "weights");
+  if (!weights || !weights->is_object()) fail(PLEAT_ERROR_FORMAT, path + ": no 'weights' object");
   std::vector<std::vector<std::pair<int32_t, double>>> per_vertex(static_cast<size_t>(vertex_count));
-  for (const auto& [bone, list] : weights->members) {
+  for (const auto& [bone, list] : weights->items()) {
     const int32_t j = skeleton.find(bone);
     if (j < 0)
       fail(PLEAT_ERROR_FORMAT, path + ": weights for bone '" + bone + "', which the rig does not have");
-    if (list.type != Json::Type::array)
-      fail(PLEAT_ERROR_FORMAT, path + ": weights of bone '" + bone + "' are not a list");
-    for (size_t k = 0; k < list.items.size(); ++k) {
-      const Json& pair = list.items[k];
-      if (pair.type != Json::Type::array || pair.items.size() != 2 ||
-          pair.items[0].type != Json::Type::number || pair.items[1].type != Json::Type::number)
+    if (!list.is_array()) fail(PLEAT_ERROR_FORMAT, path + ": weights of bone '" + bone + "' are not a list");
+    for (size_t k = 0; k < list.size(); ++k) {
+      const Json& pair = list[k];
+      if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number() || !pair[1].is_number())
         fail(PLEAT_ERROR_FORMAT,
              path + ": bone '" + bone + "' entry " + std::to_string(k) + " is not [vertex, weight]");
-      const double v = pair.items[0].number, w = pair.items[1].number;
-      if (v < 0 || v >= vertex_count || v != std::floor(v))
+      const double v = pair[0].get<double>(), w = pair[1].get<double>();
+      if (!is_index(pair[0], vertex_count))
         fail(PLEAT_ERROR_FORMAT, path + ": bone '" + bone + "' entry " + std::to_string(k) +
                                      " names vertex " + std::to_string(v) + " of " +
                                      std::to_string(vertex_count));
