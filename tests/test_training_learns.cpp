@@ -12,6 +12,7 @@
 #include <fstream>
 #include <set>
 
+#include "evaluation.h"
 #include "runtime/model_file.h"
 #include "support/synthetic_sequence.h"
 #include "support/test_support.h"
@@ -127,4 +128,16 @@ TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {
   }
   EXPECT_EQ(seen.size(), size_t(data.frame_count()));
   EXPECT_GT(mixed, 0u) << "batches draw frames from both sequences";
+}
+
+// The LBS baseline skins the rest skirt with the nearest body weights: the
+// data's skirt is the same skinning of the skirt pushed 2 cm outwards, so
+// the baseline's error is about those 2 cm (blending shortens it a little).
+TEST(TrainingLearns, LbsBaselineMissesThePush) {
+  const std::string root = pleat_test::temp_dir("training_baseline");
+  const Dataset data({pleat_test::write_skirt_walk(root)});
+  const MetricsResult m = lbs_baseline(data);
+  EXPECT_EQ(m.frame_count, 31u);
+  EXPECT_GT(m.e_verts_cm, 1.8);
+  EXPECT_LT(m.e_verts_cm, 2.05);
 }

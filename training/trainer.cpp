@@ -11,8 +11,8 @@
 
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "evaluation.h"
 #include "runtime/model_file.h"
-#include "spectral/band_split.h"
 
 namespace pleat::training {
 namespace {
@@ -235,32 +235,7 @@ MetricsResult Trainer::validate(const Dataset& data) {
           network_->forward(bound, s.poses(), frames, runtime::Stage::refinement).positions.contiguous();
       std::copy(x.data_ptr<float>(), x.data_ptr<float>() + x.numel(), predicted.data() + f * n * 3);
     }
-    const torch::Tensor truth = s.truth.contiguous();
-    const BandBasis<float>& basis = s.garment->prepared->bands;
-    const BandSplitFn split = [&](const float* in, size_t frames, float* low, float* mid, float* high) {
-      split_bands(basis, in, frames, static_cast<size_t>(n) * 3, low, static_cast<size_t>(n) * 3, mid,
-                  static_cast<size_t>(n) * 3, high, static_cast<size_t>(n) * 3);
-    };
-    MetricsOptions options;
-    options.flags = PLEAT_METRIC_VERTEX | PLEAT_METRIC_NORMALS | PLEAT_METRIC_EDGES | PLEAT_METRIC_CURVATURE |
-                    PLEAT_METRIC_BANDS | PLEAT_METRIC_SELF_COLLISION;
-    const MetricsResult m =
-        compute_metrics(s.garment->rest.triangles, static_cast<int32_t>(n), predicted.data(), 0,
-                        truth.data_ptr<float>(), 0, static_cast<size_t>(s.frame_count()), options, &split);
-    // Frame-weighted mean over sequences.
-    const double w = double(s.frame_count()), before = double(total.frame_count), after = before + w;
-    const auto mix = [&](double& a, double b) { a = (a * before + b * w) / after; };
-    mix(total.e_verts_cm, m.e_verts_cm);
-    mix(total.e_vnorm_deg, m.e_vnorm_deg);
-    mix(total.e_fnorm_deg, m.e_fnorm_deg);
-    mix(total.e_edge_percent, m.e_edge_percent);
-    mix(total.e_curv, m.e_curv);
-    mix(total.e_low_cm, m.e_low_cm);
-    mix(total.e_mid_cm, m.e_mid_cm);
-    mix(total.e_high_cm, m.e_high_cm);
-    mix(total.self_collision_percent, m.self_collision_percent);
-    total.frame_count += m.frame_count;
-    total.computed = m.computed;
+    accumulate(&total, sequence_metrics(s, predicted.data()));
   }
   return total;
 }

@@ -7,6 +7,8 @@
 //   pleat-train export config.json -o model.pleat  the latest checkpoint as a model file
 //   pleat-train ablation config.json              the four runs of the paper's Table I and
 //                                                <output>/ablation.md
+//   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
+//                                                on the validation (else training) sequences
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -14,6 +16,7 @@
 
 #include "ablation.h"
 #include "core/error.h"
+#include "evaluation.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
 
@@ -23,6 +26,7 @@ const char* kUsage =
     "usage: pleat-train train config.json [--epochs N]\n"
     "       pleat-train export config.json -o model.pleat\n"
     "       pleat-train ablation config.json\n"
+    "       pleat-train baseline config.json\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -64,6 +68,20 @@ int ablation(int argc, char** argv) {
   return 0;
 }
 
+int baseline(int argc, char** argv) {
+  if (argc != 3) throw std::invalid_argument("baseline needs a config file");
+  const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
+  const pleat::training::Dataset data(c.validation.empty() ? c.train : c.validation);
+  const pleat::MetricsResult m = pleat::training::lbs_baseline(data);
+  std::printf("LBS baseline on %zu sequences (%llu frames):\n", data.sequences().size(),
+              static_cast<unsigned long long>(m.frame_count));
+  std::printf("  E_verts %.4f cm  E_vnorm %.3f deg  E_fnorm %.3f deg  E_edge %.3f %%  E_curv %.4f\n",
+              m.e_verts_cm, m.e_vnorm_deg, m.e_fnorm_deg, m.e_edge_percent, m.e_curv);
+  std::printf("  E_low %.4f cm  E_mid %.4f cm  E_high %.4f cm  self-collision %.3f %%\n", m.e_low_cm,
+              m.e_mid_cm, m.e_high_cm, m.self_collision_percent);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,6 +90,7 @@ int main(int argc, char** argv) {
     if (command == "train") return train(argc, argv);
     if (command == "export") return export_model(argc, argv);
     if (command == "ablation") return ablation(argc, argv);
+    if (command == "baseline") return baseline(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
   } catch (const pleat::Error& e) {

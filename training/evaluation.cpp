@@ -1,0 +1,81 @@
+#include "evaluation.h"
+
+#include "body/skinning.h"
+#include "capi/pleat.h"
+#include "metrics/nearest_points.h"
+#include "spectral/band_split.h"
+
+namespace pleat::training {
+
+MetricsResult sequence_metrics(const TrainingSequence& s, const float* predicted) {
+  const int64_t n = s.garment->rest.vertex_count();
+  const size_t frame = static_cast<size_t>(n) * 3;
+  const torch::Tensor truth = s.truth.contiguous();
+  const BandBasis<float>& basis = s.garment->prepared->bands;
+  const BandSplitFn split = [&](const float* in, size_t frames, float* low, float* mid, float* high) {
+    split_bands(basis, in, frames, frame, low, frame, mid, frame, high, frame);
+  };
+  MetricsOptions options;
+  options.flags = PLEAT_METRIC_VERTEX | PLEAT_METRIC_NORMALS | PLEAT_METRIC_EDGES | PLEAT_METRIC_CURVATURE |
+                  PLEAT_METRIC_BANDS | PLEAT_METRIC_SELF_COLLISION;
+  return compute_metrics(s.garment->rest.triangles, static_cast<int32_t>(n), predicted, 0,
+                         truth.data_ptr<float>(), 0, static_cast<size_t>(s.frame_count()), options, &split);
+}
+
+void accumulate(MetricsResult* total, const MetricsResult& m) {
+  const double before = double(total->frame_count), w = double(m.frame_count), after = before + w;
+  if (after <= 0) return;
+  const auto mix = [&](double& a, double b) { a = (a * before + b * w) / after; };
+  mix(total->e_verts_cm, m.e_verts_cm);
+  mix(total->e_vnorm_deg, m.e_vnorm_deg);
+  mix(total->e_fnorm_deg, m.e_fnorm_deg);
+  mix(total->e_edge_percent, m.e_edge_percent);
+  mix(total->e_curv, m.e_curv);
+  mix(total->e_low_cm, m.e_low_cm);
+  mix(total->e_mid_cm, m.e_mid_cm);
+  mix(total->e_high_cm, m.e_high_cm);
+  mix(total->self_collision_percent, m.self_collision_percent);
+  total->frame_count += m.frame_count;
+  total->computed = m.computed;
+}
+
+MetricsResult lbs_baseline(const Dataset& data) {
+  MetricsResult total;
+  for (const TrainingSequence& s : data.sequences()) {
+    const Body& body = s.body;
+    const Points3d& rest = s.garment->rest.vertices;
+    SkinWeights weights;
+    weights.joint_count = body.joint_count();
+    for (int32_t b : nearest_points(body.rest.vertices, rest)) {
+      for (int32_t k = body.weights.offsets[b]; k < body.weights.offsets[b + 1]; ++k) {
+        weights.joints.push_back(body.weights.joints[k]);
+        weights.weights.push_back(body.weights.weights[k]);
+      }
+      weights.offsets.push_back(static_cast<int32_t>(weights.joints.size()));
+    }
+    const Transforms rest_global = rest_transforms(body.skeleton);
+    const int32_t joints = body.joint_count();
+    std::vector<float> predicted;
+    Quaternions pose(static_cast<size_t>(joints));
+    Transforms global;
+    SkinMatrices matrices;
+    Points3d posed;
+    for (int64_t f = 0; f < s.frame_count(); ++f) {
+      for (int32_t j = 0; j < joints; ++j) {
+        const float* q = s.rotations.data() + (f * joints + j) * 4;
+        pose[static_cast<size_t>(j)] = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
+      }
+      const float* root = s.root_positions.data() + f * 3;
+      forward_kinematics(body.skeleton, pose.data(), Eigen::Vector3d(root[0], root[1], root[2]), &global);
+      skinning_matrices(global, rest_global, &matrices);
+      posed.resize(rest.rows(), 3);
+      linear_blend_skinning(rest, weights, matrices, &posed);
+      for (Eigen::Index i = 0; i < posed.size(); ++i)
+        predicted.push_back(static_cast<float>(posed.data()[i]));
+    }
+    accumulate(&total, sequence_metrics(s, predicted.data()));
+  }
+  return total;
+}
+
+}  // namespace pleat::training

@@ -1,0 +1,21 @@
+#pragma once
+// Metrics of predicted frames against a sequence's simulation (the library's
+// metrics, frequency bands of the sequence's prepared garment), their
+// frame-weighted mean over several sequences, and the plain LBS baseline of
+// the paper's comparison.
+#include "dataset.h"
+#include "metrics/metrics.h"
+
+namespace pleat::training {
+
+// predicted: frame_count x N x 3 floats (welded vertex order).
+MetricsResult sequence_metrics(const TrainingSequence& s, const float* predicted);
+
+// total <- frame-weighted mean of total and m.
+void accumulate(MetricsResult* total, const MetricsResult& m);
+
+// Every garment vertex skinned with the skin weights of its nearest rest body
+// vertex (no network): the "LBS" row of the comparison tables.
+MetricsResult lbs_baseline(const Dataset& data);
+
+}  // namespace pleat::training
