@@ -122,7 +122,6 @@ struct Instance::State {
   nn::GraphAttentionLayer blend_first;  // model.blend.layers[0] with folded scaled by q^t
   MatrixRM logits;                      // N x S
   MatrixRM offsets;                     // N x 3: blend shapes or refinement
-  MatrixRM shaped;                      // N x 3: T^t
   MatrixRM skinned[2];                  // N x 3: M̃ of the current and the previous frame
   MatrixRM normals;                     // N x 3
   MatrixRM refinement_in;               // N x refinement input
@@ -137,8 +136,7 @@ struct Instance::State {
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
                   int32_t* joints_out);
   void refine_frame(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot, float* out);
-  void write_batch(const PoseSequence& poses, int64_t first_in_call, int64_t begin, int64_t count,
-                   const EvaluateOutputs& outputs);
+  void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
 };
 
 void Instance::State::bind(const Body& body, const InstanceOptions& options) {
@@ -193,7 +191,6 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   blend_first = m.blend.layers.front();
   logits.resize(n, joints);
   offsets.resize(n, 3);
-  shaped.resize(n, 3);
   skinned[0].resize(n, 3);
   skinned[1].resize(n, 3);
   normals.resize(n, 3);
@@ -318,7 +315,7 @@ void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const M
   });
 }
 
-void Instance::State::write_batch(const PoseSequence&, int64_t first_in_call, int64_t begin, int64_t count,
+void Instance::State::write_batch(int64_t first_in_call, int64_t begin, int64_t count,
                                   const EvaluateOutputs& outputs) {
   const size_t frame_floats = static_cast<size_t>(n) * 3;
   for (int64_t b = 0; b < count; ++b) {
@@ -427,7 +424,7 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       }
       previous_slot = slot;
     }
-    s.write_batch(poses, first, begin, batch, outputs);
+    s.write_batch(first, begin, batch, outputs);
   }
 }
 
