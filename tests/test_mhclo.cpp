@@ -8,7 +8,7 @@
 #include "body/makehuman.h"
 #include "body/mhclo.h"
 #include "core/error.h"
-#include "io/sequence.h"
+#include "io/obj_reader.h"
 #include "metrics/nearest_points.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
@@ -57,7 +57,7 @@ TEST(Mhclo, EveryGarmentFitsTheDefaultBody) {
     const ClothesBinding b = read_mhclo(dir + "/" + name + ".mhclo");
     EXPECT_EQ(b.name, name);
     ASSERT_EQ(static_cast<Eigen::Index>(b.vertices.size()),
-              read_obj_vertex_order(dir + "/" + b.obj_file).rows());
+              read_obj_file_order(dir + "/" + b.obj_file).vertices.rows());
     const Points3d fitted = fit_clothes(b, base);
     const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, fitted);
     double mean = 0;

@@ -9,10 +9,9 @@
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/mesh_import.h"
+#include "io/obj_reader.h"
 #include "io/obj_writer.h"
 #include "io/point_cache.h"
-#include "metrics/nearest_points.h"
 
 namespace pleat {
 namespace {
@@ -169,10 +168,8 @@ SequenceData read_sequence(const std::string& dir) {
   SequenceData d;
   d.meta = parse_meta(dir);
   const int64_t frames = d.meta.frame_count, joints = static_cast<int64_t>(d.meta.joint_names.size());
-  const ImportedMesh mesh = import_mesh(dir + "/garment.obj");
-  const Points3d order = read_obj_vertex_order(dir + "/garment.obj");
-  d.garment_rest.vertices = order;
-  d.garment_rest.triangles = mesh.triangles;  // indices into assimp's order; remapped below
+  d.garment_rest = read_obj_file_order(dir + "/garment.obj");  // errors name the path
+  const Points3d& order = d.garment_rest.vertices;
   int64_t garment_vertices = 0, body_vertices = 0;
   d.garment_frames = read_frames(dir, "garment.pc2", frames, &garment_vertices);
   if (garment_vertices != order.rows())
@@ -197,35 +194,7 @@ SequenceData read_sequence(const std::string& dir) {
   } catch (const Error& e) {
     bad(dir, e.what());
   }
-  // Triangles in "v" order: assimp may reorder vertices and parses floats its
-  // own way (last-digit differences), so each imported vertex is matched to
-  // the nearest "v" line; seam duplicates sit at one position and weld anyway.
-  const std::vector<int32_t> to_order = nearest_points(order, mesh.vertices);
-  const double diagonal = (order.colwise().maxCoeff() - order.colwise().minCoeff()).norm();
-  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
-    if ((mesh.vertices.row(i) - order.row(to_order[static_cast<size_t>(i)])).norm() > 1e-6 * diagonal + 1e-9)
-      bad(dir, "garment.obj: imported vertex " + std::to_string(i) + " matches none of its v lines");
-  for (Eigen::Index i = 0; i < d.garment_rest.triangles.size(); ++i)
-    d.garment_rest.triangles.data()[i] = to_order[static_cast<size_t>(d.garment_rest.triangles.data()[i])];
   return d;
-}
-
-Points3d read_obj_vertex_order(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
-  std::vector<double> xyz;
-  std::string line;
-  int64_t number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
-    std::istringstream s(line.substr(2));
-    double x, y, z;
-    if (!(s >> x >> y >> z))
-      fail(PLEAT_ERROR_FORMAT, path + ": line " + std::to_string(number) + " is not 'v x y z'");
-    xyz.insert(xyz.end(), {x, y, z});
-  }
-  return Eigen::Map<const Points3d>(xyz.data(), static_cast<Eigen::Index>(xyz.size() / 3), 3);
 }
 
 }  // namespace pleat

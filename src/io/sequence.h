@@ -61,8 +61,4 @@ bool sequence_complete(const std::string& dir);
 // counts that disagree between the files, or a non-finite value.
 SequenceData read_sequence(const std::string& dir);
 
-// Vertex positions in the order of an OBJ file's "v" lines (the order
-// garment.pc2 follows), for mapping them onto a loaded garment.
-Points3d read_obj_vertex_order(const std::string& path);
-
 }  // namespace pleat
