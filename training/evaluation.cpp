@@ -2,7 +2,6 @@
 
 #include "body/skinning.h"
 #include "capi/pleat.h"
-#include "metrics/nearest_points.h"
 #include "spectral/band_split.h"
 
 namespace pleat::training {
@@ -44,15 +43,7 @@ MetricsResult lbs_baseline(const Dataset& data) {
   for (const TrainingSequence& s : data.sequences()) {
     const Body& body = s.body;
     const Points3d& rest = s.garment->rest.vertices;
-    SkinWeights weights;
-    weights.joint_count = body.joint_count();
-    for (int32_t b : nearest_points(body.rest.vertices, rest)) {
-      for (int32_t k = body.weights.offsets[b]; k < body.weights.offsets[b + 1]; ++k) {
-        weights.joints.push_back(body.weights.joints[k]);
-        weights.weights.push_back(body.weights.weights[k]);
-      }
-      weights.offsets.push_back(static_cast<int32_t>(weights.joints.size()));
-    }
+    const SkinWeights weights = nearest_vertex_weights(body, rest);
     const Transforms rest_global = rest_transforms(body.skeleton);
     const int32_t joints = body.joint_count();
     std::vector<float> predicted;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "metrics/nearest_points.h"
 
 namespace pleat {
 namespace {
@@ -135,6 +136,19 @@ Points3d pose_body_frames(const Body& body, const Motion& motion, int64_t first,
     out.middleRows(f * v, v) = frame;
   }
   return out;
+}
+
+SkinWeights nearest_vertex_weights(const Body& body, const Points3d& points) {
+  SkinWeights weights;
+  weights.joint_count = body.joint_count();
+  for (int32_t b : nearest_points(body.rest.vertices, points)) {
+    for (int32_t k = body.weights.offsets[b]; k < body.weights.offsets[b + 1]; ++k) {
+      weights.joints.push_back(body.weights.joints[k]);
+      weights.weights.push_back(body.weights.weights[k]);
+    }
+    weights.offsets.push_back(static_cast<int32_t>(weights.joints.size()));
+  }
+  return weights;
 }
 
 }  // namespace pleat

@@ -52,6 +52,11 @@ struct Body {
 // match the mesh or skeleton, pose blend shapes of the wrong size.
 void validate_body(const Body& body, const std::string& source);
 
+// Skin weights for arbitrary points (a garment) copied from the nearest rest
+// body vertex of each: the plain LBS that the network is compared with, and
+// what datagen pins follow.
+SkinWeights nearest_vertex_weights(const Body& body, const Points3d& points);
+
 // Global rest positions of the joints (joint_count x 3).
 Points3d rest_joint_positions(const Skeleton& skeleton);
 
