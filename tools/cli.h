@@ -60,8 +60,8 @@ int run_inspect(const Args& args);
 int run_pose(const Args& args);
 int run_init_model(const Args& args);
 int run_bake(const Args& args);
-// `train` / `export`: runs pleat-train from the same folder with the same
-// arguments (the trainer links libtorch; this CLI only the C API).
-int run_trainer(int argc, char** argv);
+// Replaces this process with `tool` from the same folder, passing argv[first..]
+// (see cmd_companion.cpp); `how_to_build` is the hint when it is missing.
+int run_companion(const std::string& tool, const std::string& how_to_build, int argc, char** argv, int first);
 
 }  // namespace pleat_cli

@@ -36,6 +36,8 @@ const char* kUsage =
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
     "  export config.json -o m.pleat    the latest checkpoint as a model file (pleat-train)\n"
     "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
+    "  datagen config.json [--jobs N]   simulate a training data set in Blender (docs/datagen.md;\n"
+    "                                   runs pleat-datagen; --help for its options)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -59,7 +61,12 @@ int main(int argc, char** argv) {
     if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
     if (command == "init-model") return run_init_model(parse_args(argc, argv, 2, {}));
     if (command == "bake") return run_bake(parse_args(argc, argv, 2, {}));
-    if (command == "train" || command == "export" || command == "ablation") return run_trainer(argc, argv);
+    if (command == "train" || command == "export" || command == "ablation")
+      return run_companion("pleat-train",
+                           "configure with -DPLEAT_BUILD_TRAINING=ON and libtorch-dev installed", argc, argv,
+                           1);
+    if (command == "datagen")
+      return run_companion("pleat-datagen", "build the datagen target", argc, argv, 2);
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {
     std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());
