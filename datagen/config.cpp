@@ -1,0 +1,283 @@
+#include "config.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+
+namespace pleat::datagen {
+namespace {
+
+using Json = nlohmann::json;
+namespace fs = std::filesystem;
+
+// One JSON object being read: every access names the field on failure, and
+// done() refuses keys that were never asked for (typos do not pass silently).
+class Fields {
+ public:
+  Fields(const Json& j, std::string source, std::string where)
+      : j_(j), source_(std::move(source)), where_(std::move(where)) {
+    if (!j_.is_object()) bad("must be an object");
+  }
+  [[noreturn]] void bad(const std::string& what, const std::string& key = "") const {
+    const std::string field = where_.empty() ? key : (key.empty() ? where_ : where_ + "." + key);
+    fail(PLEAT_ERROR_FORMAT,
+         "datagen config '" + source_ + "': " + (field.empty() ? "" : "'" + field + "' ") + what);
+  }
+  bool has(const std::string& key) const { return j_.contains(key); }
+  const Json& at(const std::string& key) {
+    used_.insert(key);
+    if (!j_.contains(key)) bad("is missing", key);
+    return j_.at(key);
+  }
+  std::string text(const std::string& key, const std::string& fallback = "", bool required = false) {
+    if (!has(key) && !required) return fallback;
+    const Json& v = at(key);
+    if (!v.is_string() || v.get<std::string>().empty()) bad("must be a non-empty string", key);
+    return v.get<std::string>();
+  }
+  double number(const std::string& key, double fallback, double lo, double hi) {
+    if (!has(key)) return fallback;
+    const Json& v = at(key);
+    if (!v.is_number()) bad("must be a number", key);
+    const double x = v.get<double>();
+    if (!(x >= lo && x <= hi)) bad("must be in [" + fmt(lo) + ", " + fmt(hi) + "], is " + fmt(x), key);
+    return x;
+  }
+  int64_t integer(const std::string& key, int64_t fallback, int64_t lo, int64_t hi) {
+    if (!has(key)) return fallback;
+    const Json& v = at(key);
+    if (!v.is_number_integer()) bad("must be an integer", key);
+    const auto x = v.get<int64_t>();
+    if (x < lo || x > hi) bad("must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]", key);
+    return x;
+  }
+  bool flag(const std::string& key, bool fallback) {
+    if (!has(key)) return fallback;
+    const Json& v = at(key);
+    if (!v.is_boolean()) bad("must be true or false", key);
+    return v.get<bool>();
+  }
+  Fields object(const std::string& key) { return Fields(at(key), source_, join(key)); }
+  const Json& list(const std::string& key) {
+    const Json& v = at(key);
+    if (!v.is_array() || v.empty()) bad("must be a non-empty list", key);
+    return v;
+  }
+  std::string join(const std::string& key) const { return where_.empty() ? key : where_ + "." + key; }
+  void done() const {
+    for (const auto& [key, value] : j_.items())
+      if (!used_.count(key)) bad("is not a known setting", key);
+  }
+
+ private:
+  static std::string fmt(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  }
+  const Json& j_;
+  std::string source_, where_;
+  std::set<std::string> used_;
+};
+
+std::string resolve(const fs::path& base, const std::string& p) {
+  return fs::path(p).is_absolute() ? p : (base / p).lexically_normal().string();
+}
+
+void read_cloth(Fields f, ClothSettings* c) {
+  c->quality = static_cast<int>(f.integer("quality", c->quality, 1, 80));
+  c->mass = f.number("mass", c->mass, 1e-4, 10);
+  c->air_damping = f.number("air_damping", c->air_damping, 0, 10);
+  c->tension_stiffness = f.number("tension_stiffness", c->tension_stiffness, 0, 10000);
+  c->compression_stiffness = f.number("compression_stiffness", c->compression_stiffness, 0, 10000);
+  c->shear_stiffness = f.number("shear_stiffness", c->shear_stiffness, 0, 10000);
+  c->bending_stiffness = f.number("bending_stiffness", c->bending_stiffness, 0, 10000);
+  c->tension_damping = f.number("tension_damping", c->tension_damping, 0, 50);
+  c->compression_damping = f.number("compression_damping", c->compression_damping, 0, 50);
+  c->shear_damping = f.number("shear_damping", c->shear_damping, 0, 50);
+  c->bending_damping = f.number("bending_damping", c->bending_damping, 0, 1000);
+  c->pin_stiffness = f.number("pin_stiffness", c->pin_stiffness, 0, 50);
+  f.done();
+}
+
+void read_collision(Fields f, CollisionSettings* c) {
+  c->quality = static_cast<int>(f.integer("quality", c->quality, 1, 20));
+  c->distance = f.number("distance", c->distance, 0.001, 1);
+  c->body_thickness = f.number("body_thickness", c->body_thickness, 0.001, 1);
+  c->body_thickness_inner = f.number("body_thickness_inner", c->body_thickness_inner, 0.001, 1);
+  c->friction = f.number("friction", c->friction, 0, 80);
+  c->damping = f.number("damping", c->damping, 0, 1);
+  c->self_collision = f.flag("self_collision", c->self_collision);
+  c->self_distance = f.number("self_distance", c->self_distance, 0.001, 0.1);
+  c->self_friction = f.number("self_friction", c->self_friction, 0, 80);
+  f.done();
+}
+
+void read_check(Fields f, CheckSettings* c) {
+  c->max_distance = f.number("max_distance", c->max_distance, 0.01, 10);
+  c->max_penetration = f.number("max_penetration", c->max_penetration, 0.001, 1);
+  c->max_penetrating_fraction = f.number("max_penetrating_fraction", c->max_penetrating_fraction, 0, 1);
+  f.done();
+}
+
+template <typename Spec>
+void require_unique(const std::vector<Spec>& specs, const Fields& f, const std::string& list) {
+  std::set<std::string> seen;
+  for (size_t i = 0; i < specs.size(); ++i)
+    if (!seen.insert(specs[i].name).second)
+      f.bad("repeats the name '" + specs[i].name + "'", list + "[" + std::to_string(i) + "]");
+}
+
+void require_file(const Fields& f, const std::string& path, const std::string& key) {
+  if (!fs::is_regular_file(path)) f.bad("names '" + path + "', which is not a file", key);
+}
+
+// Names become folder names: keep them to a portable set.
+std::string checked_name(Fields& f, const std::string& key, const std::string& fallback) {
+  const std::string name = f.text(key, fallback, fallback.empty());
+  for (char c : name)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' || c == '-'))
+      f.bad("'" + name + "' may hold only letters, digits, '_', '.', '+' and '-'", key);
+  return name;
+}
+
+}  // namespace
+
+Config parse_config(const std::string& text, const std::string& path) {
+  Json j;
+  try {
+    j = Json::parse(text);
+  } catch (const Json::exception& e) {
+    fail(PLEAT_ERROR_FORMAT, "datagen config '" + path + "': not valid JSON: " + e.what());
+  }
+  Fields f(j, path, "");
+  Config c;
+  c.path = path;
+  const fs::path base = fs::absolute(fs::path(path)).parent_path();
+  const fs::path assets = resolve(base, f.text("assets", "."));
+  c.name = checked_name(f, "name", "");
+  if (f.has("output")) c.output = resolve(base, f.text("output"));
+  c.blender = f.text("blender", c.blender);
+  c.body = resolve(assets, f.text("body", "", true));
+  if (!fs::is_regular_file(fs::path(c.body) / "base.obj"))
+    f.bad("names '" + c.body + "', which holds no MakeHuman base.obj", "body");
+  c.rig = f.text("rig", c.rig);
+  if (c.rig != "cmu_mb" && c.rig != "default") f.bad("must be \"cmu_mb\" or \"default\"", "rig");
+  c.frame_rate = f.number("frame_rate", c.frame_rate, 1, 1000);
+  c.segment_frames = f.integer("segment_frames", c.segment_frames, 2, 100000);
+  c.segments_per_clip = f.integer("segments_per_clip", c.segments_per_clip, 1, 1000);
+  c.min_segment_frames =
+      f.integer("min_segment_frames", std::min(c.min_segment_frames, c.segment_frames), 2, c.segment_frames);
+  c.mirror = f.flag("mirror", c.mirror);
+  c.rest_frames = f.integer("rest_frames", c.rest_frames, 0, 10000);
+  c.blend_frames = f.integer("blend_frames", c.blend_frames, 1, 10000);
+  {
+    Fields s = f.object("sequences");
+    c.train = s.integer("train", 0, 0, 1000000);
+    c.validation = s.integer("validation", 0, 0, 1000000);
+    c.test = s.integer("test", 0, 0, 1000000);
+    c.held_out = s.integer("held_out", 0, 0, 1000000);
+    s.done();
+    if (c.train + c.validation + c.test + c.held_out == 0) s.bad("asks for no sequence");
+  }
+  const Json& garments = f.list("garments");
+  for (size_t i = 0; i < garments.size(); ++i) {
+    Fields g(garments[i], path, "garments[" + std::to_string(i) + "]");
+    GarmentSpec spec;
+    spec.mhclo = resolve(assets, g.text("mhclo", "", true));
+    require_file(g, spec.mhclo, "mhclo");
+    spec.name = checked_name(g, "name", fs::path(spec.mhclo).stem().string());
+    spec.held_out = g.flag("held_out", false);
+    spec.pin_distance = g.number("pin_distance", spec.pin_distance, 0, 0.2);
+    g.done();
+    c.garments.push_back(spec);
+  }
+  require_unique(c.garments, f, "garments");
+  const Json& shapes = f.list("shapes");
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    Fields s(shapes[i], path, "shapes[" + std::to_string(i) + "]");
+    ShapeSpec spec;
+    spec.name = checked_name(s, "name", "");
+    if (s.has("values")) {
+      const Json& v = s.at("values");
+      if (!v.is_object()) s.bad("must be an object of shape entries", "values");
+      for (const auto& [key, value] : v.items()) {
+        if (!value.is_number()) s.bad("must be a number", "values." + key);
+        spec.values.emplace_back(key, value.get<double>());
+      }
+    }
+    s.done();
+    c.shapes.push_back(spec);
+  }
+  require_unique(c.shapes, f, "shapes");
+  const Json& motions = f.list("motions");
+  for (size_t i = 0; i < motions.size(); ++i) {
+    Fields m(motions[i], path, "motions[" + std::to_string(i) + "]");
+    MotionSpec spec;
+    spec.source = resolve(assets, m.text("source", "", true));
+    require_file(m, spec.source, "source");
+    spec.name = checked_name(m, "name", fs::path(spec.source).stem().string());
+    if (m.has("map")) {
+      spec.map = resolve(base, m.text("map"));
+      require_file(m, spec.map, "map");
+    }
+    spec.skip_frames = m.integer("skip_frames", 0, 0, 1000000);
+    spec.split = m.text("split", "train");
+    if (spec.split != "train" && spec.split != "validation" && spec.split != "test")
+      m.bad("must be \"train\", \"validation\" or \"test\"", "split");
+    m.done();
+    c.motions.push_back(spec);
+  }
+  require_unique(c.motions, f, "motions");
+  if (f.has("cloth")) read_cloth(f.object("cloth"), &c.cloth);
+  if (f.has("collision")) read_collision(f.object("collision"), &c.collision);
+  if (f.has("check")) read_check(f.object("check"), &c.check);
+  f.done();
+
+  // Every split that asks for sequences needs garments and clips to draw from.
+  const auto count_if = [](const auto& list, auto&& predicate) {
+    return std::count_if(list.begin(), list.end(), predicate);
+  };
+  const auto seen = count_if(c.garments, [](const GarmentSpec& g) { return !g.held_out; });
+  for (const char* split : {"train", "validation", "test"}) {
+    const int64_t wanted = split == std::string("train")        ? c.train
+                           : split == std::string("validation") ? c.validation
+                                                                : c.test;
+    if (wanted == 0) continue;
+    if (seen == 0)
+      f.bad("asks for " + std::string(split) + " sequences, but every garment is held out", "sequences");
+    if (count_if(c.motions, [&](const MotionSpec& m) { return m.split == split; }) == 0)
+      f.bad("asks for " + std::string(split) + " sequences, but no motion has that split", "sequences");
+  }
+  if (c.held_out > 0 && seen == static_cast<int64_t>(c.garments.size()))
+    f.bad("asks for held_out sequences, but no garment is held out", "sequences");
+  return c;
+}
+
+Config read_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(PLEAT_ERROR_IO, "datagen config '" + path + "': cannot open the file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_config(text.str(), path);
+}
+
+std::string default_output(const std::string& name) {
+  if (const char* d = std::getenv("PLEAT_DATA_DIR"); d && *d) return (fs::path(d) / name).string();
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    return (fs::path(x) / "pleat" / "datasets" / name).string();
+  const char* home = std::getenv("HOME");
+  return (fs::path(home && *home ? home : ".") / ".cache" / "pleat" / "datasets" / name).string();
+}
+
+std::string output_dir(const Config& config) {
+  return config.output.empty() ? default_output(config.name) : config.output;
+}
+
+}  // namespace pleat::datagen

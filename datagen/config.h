@@ -1,0 +1,103 @@
+#pragma once
+// `pleat datagen` configuration (docs/datagen.md): what to simulate (garments,
+// body shapes, motion clips, how many sequences per split) and how (frame
+// rate, settling, Blender cloth and collision settings, the acceptance check).
+// Every path in the file is relative to the file, or to "assets" for the
+// body, garments and motions.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pleat::datagen {
+
+// Blender cloth modifier settings (bpy ClothSettings; stiffness in Blender's
+// units, mass in kg per vertex).
+struct ClothSettings {
+  int quality = 5;  // solver steps per frame
+  double mass = 0.3, air_damping = 1.0;
+  double tension_stiffness = 15, compression_stiffness = 15, shear_stiffness = 5, bending_stiffness = 0.5;
+  double tension_damping = 5, compression_damping = 5, shear_damping = 5, bending_damping = 0.5;
+  double pin_stiffness = 1.0;
+};
+
+struct CollisionSettings {
+  int quality = 2;
+  double distance = 0.005;               // cloth-body minimum distance, m
+  double body_thickness = 0.005;         // COLLISION thickness_outer, m
+  double body_thickness_inner = 0.01;    // COLLISION thickness_inner, m
+  double friction = 5.0, damping = 0.0;  // COLLISION cloth_friction, damping
+  bool self_collision = false;
+  double self_distance = 0.005, self_friction = 5.0;
+};
+
+// A simulation is rejected when, on any kept frame, a garment vertex is further
+// than max_distance from the nearest body vertex (explosion, a garment that
+// fell off), or more than max_penetrating_fraction of the vertices are more
+// than max_penetration inside the body.
+struct CheckSettings {
+  double max_distance = 0.3;
+  double max_penetration = 0.02;
+  double max_penetrating_fraction = 0.02;
+};
+
+struct GarmentSpec {
+  std::string name;
+  std::string mhclo;      // absolute
+  bool held_out = false;  // only in the test split (garments unseen in training)
+  // Vertices closer than this to the rest body and above the hips follow the
+  // skinned body (waistbands, shoulders); 0 pins nothing.
+  double pin_distance = 0.01;
+};
+
+struct ShapeSpec {
+  std::string name;
+  std::vector<std::pair<std::string, double>> values;  // named β entries; the rest keep defaults
+};
+
+struct MotionSpec {
+  std::string name;         // file stem unless given
+  std::string source;       // absolute .bvh path
+  std::string map;          // absolute joint map (io/motion_ops.h format), or empty: equal names
+  std::string split;        // "train", "validation" or "test": all its segments go there
+  int64_t skip_frames = 0;  // source frames dropped first (CMU cgspeed files open with a reference pose)
+};
+
+struct Config {
+  std::string path;    // the config file
+  std::string name;    // the data set's name (default output folder)
+  std::string output;  // absolute; empty: default_output()
+  std::string blender = "blender";
+  std::string body;  // MakeHuman assets folder, absolute
+  std::string rig = "cmu_mb";
+  double frame_rate = 30.0;
+  int64_t segment_frames = 120;     // kept frames per sequence
+  int64_t segments_per_clip = 2;    // cut from each clip, evenly spaced
+  int64_t min_segment_frames = 60;  // a shorter clip gives one segment of all its frames if it has this many
+  bool mirror = true;               // also every segment mirrored left/right
+  int64_t rest_frames = 10;         // still in the rest pose, settling under gravity
+  int64_t blend_frames = 30;        // rest pose -> first motion frame; both discarded
+  int64_t train = 0, validation = 0, test = 0, held_out = 0;  // sequences per split
+  std::vector<GarmentSpec> garments;
+  std::vector<ShapeSpec> shapes;
+  std::vector<MotionSpec> motions;
+  ClothSettings cloth;
+  CollisionSettings collision;
+  CheckSettings check;
+};
+
+// Throws PLEAT_ERROR_IO for an unreadable file and PLEAT_ERROR_FORMAT naming
+// the file and field: invalid JSON, an unknown key, a wrong type, a value out
+// of range, a missing asset file, duplicate names, or a split with sequences
+// asked for but nothing to draw them from.
+Config read_config(const std::string& path);
+Config parse_config(const std::string& text, const std::string& path);
+
+// $PLEAT_DATA_DIR/<name>, else $XDG_CACHE_HOME/pleat/datasets/<name>, else
+// ~/.cache/pleat/datasets/<name>.
+std::string default_output(const std::string& name);
+
+// The resolved output folder (config.output or default_output).
+std::string output_dir(const Config& config);
+
+}  // namespace pleat::datagen

@@ -1,0 +1,27 @@
+#pragma once
+// The acceptance check of a simulation (config.h CheckSettings): no NaN, the
+// garment stays near the body, and it does not sink far into it.
+#include <string>
+#include <vector>
+
+#include "config.h"
+#include "core/mesh.h"
+
+namespace pleat::datagen {
+
+struct CheckReport {
+  bool passed = true;
+  std::string reason;       // the first failure, naming the frame and vertex
+  double max_distance = 0;  // m, over kept frames and vertices, to the nearest body vertex
+  int64_t max_distance_frame = 0;
+  double max_penetrating_fraction = 0;  // of vertices deeper than max_penetration, worst frame
+  double mean_penetrating_fraction = 0;
+};
+
+// garment, body: frame_count frames each (vertices x 3 floats per frame).
+// Penetration depth is the distance behind the nearest body vertex's normal.
+CheckReport check_simulation(const std::vector<float>& garment, int64_t garment_vertices,
+                             const std::vector<float>& body, const Triangles& body_triangles,
+                             int64_t frame_count, const CheckSettings& settings);
+
+}  // namespace pleat::datagen

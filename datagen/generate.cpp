@@ -1,0 +1,312 @@
+#include "generate.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "blender_run.h"
+#include "capi/pleat.h"
+#include "core/error.h"
+#include "io/atomic_file.h"
+#include "io/sequence.h"
+#include "plan.h"
+#include "sequence_inputs.h"
+
+namespace pleat::datagen {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+// Bumped when the pipeline changes what a job produces, so old folders are redone.
+constexpr int kPipelineVersion = 1;
+
+Json job_identity(const Config& c, const Job& job) {
+  const GarmentSpec& g = c.garments[job.garment];
+  const MotionSpec& m = c.motions[job.segment.motion];
+  Json shape = Json::object();
+  for (const auto& [k, v] : c.shapes[job.shape].values) shape[k] = v;
+  return {{"pipeline", kPipelineVersion},
+          {"garment", g.name},
+          {"shape", shape},
+          {"motion", m.name},
+          {"map", fs::path(m.map).filename().string()},
+          {"first", job.segment.first},
+          {"count", job.segment.count},
+          {"mirrored", job.segment.mirrored},
+          {"skip_frames", m.skip_frames},
+          {"frame_rate", c.frame_rate},
+          {"rig", c.rig},
+          {"simulator", simulator_settings(c, g)},
+          {"check", {c.check.max_distance, c.check.max_penetration, c.check.max_penetrating_fraction}}};
+}
+
+// The "simulator" object of a finished sequence's meta.json (empty if unreadable).
+Json recorded_simulator(const std::string& dir) {
+  std::ifstream in(dir + "/meta.json");
+  const Json j = Json::parse(in, nullptr, false);
+  return j.is_object() && j.contains("simulator") && j["simulator"].is_object() ? j["simulator"]
+                                                                                : Json::object();
+}
+
+void write_json(const std::string& path, const Json& j) {
+  AtomicFile f(path);
+  f.write(j.dump(1) + "\n");
+  f.commit();
+}
+
+SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& in, const BlenderResult& sim,
+                         const CheckReport& check, const std::string& hash) {
+  const Body& body = *in.body;
+  const int64_t lead = in.lead_in, kept = in.motion.frame_count - lead;
+  const int64_t n = in.garment_rest.vertex_count(), nb = body.vertex_count(), joints = body.joint_count();
+  SequenceData d;
+  SequenceMeta& m = d.meta;
+  m.frame_rate = c.frame_rate;
+  m.frame_count = kept;
+  m.garment_name =
+      c.garments[job.garment].name + "@" + c.shapes[job.shape].name;  // rest shape differs per body
+  m.garment_source = c.garments[job.garment].mhclo;
+  m.body_source = c.body;
+  m.body_kind = PLEAT_BODY_MAKEHUMAN;
+  m.body_rig = c.rig == "default" ? PLEAT_RIG_MAKEHUMAN_DEFAULT : PLEAT_RIG_CMU_MB;
+  const std::vector<std::string> names = body.beta_names();
+  const Eigen::VectorXd beta = body.beta();
+  for (size_t i = 0; i < names.size(); ++i)
+    m.shape.emplace_back(names[i], beta[static_cast<Eigen::Index>(i)]);
+  m.motion_source = c.motions[job.segment.motion].source;
+  m.motion_first_frame = job.segment.first;
+  m.mirrored = job.segment.mirrored;
+  m.joint_names = body.skeleton.names;
+  m.split = job.split;
+  Json s = simulator_settings(c, c.garments[job.garment]);
+  s["version"] = sim.blender_version;
+  s["job_hash"] = hash;
+  s["simulation_seconds"] = sim.seconds;
+  s["held_out_garment"] = job.held_out_garment;
+  s["motion_map"] = c.motions[job.segment.motion].map;
+  s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
+  s["pinned_vertices"] = in.pinned.size();
+  s["check"] = {{"max_distance", check.max_distance},
+                {"max_penetrating_fraction", check.max_penetrating_fraction},
+                {"mean_penetrating_fraction", check.mean_penetrating_fraction}};
+  m.simulator_json = s.dump();
+  d.garment_rest = in.garment_rest;
+  d.garment_frames.assign(sim.garment_frames.begin() + lead * n * 3, sim.garment_frames.end());
+  d.body_frames.assign(in.body_frames.begin() + lead * nb * 3, in.body_frames.end());
+  for (int64_t f = lead; f < in.motion.frame_count; ++f) {
+    for (int32_t j = 0; j < joints; ++j) {
+      const Eigen::Vector4d q = in.motion.frame(f)[j].coeffs();  // x y z w
+      d.rotations.insert(d.rotations.end(), {float(q[0]), float(q[1]), float(q[2]), float(q[3])});
+    }
+    for (int k = 0; k < 3; ++k)
+      d.root_positions.push_back(static_cast<float>(in.motion.root_translation(f, k)));
+  }
+  return d;
+}
+
+std::string duration(double seconds) {
+  char b[32];
+  const long s = static_cast<long>(seconds);
+  if (s >= 3600)
+    std::snprintf(b, sizeof b, "%ldh%02ldm", s / 3600, s / 60 % 60);
+  else
+    std::snprintf(b, sizeof b, "%ldm%02lds", s / 60, s % 60);
+  return b;
+}
+
+}  // namespace
+
+int GenerateReport::count(const std::string& status) const {
+  int n = 0;
+  for (const SequenceOutcome& s : sequences) n += s.status == status;
+  return n;
+}
+
+std::string job_hash(const std::string& text) {
+  uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  char b[17];
+  std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(h));
+  return b;
+}
+
+GenerateReport generate(const Config& config, const GenerateOptions& options) {
+  GenerateReport report;
+  report.output = output_dir(config);
+  const std::string out = report.output;
+  std::error_code error;
+  fs::create_directories(out, error);
+  if (error) fail(PLEAT_ERROR_IO, "cannot create the output folder '" + out + "': " + error.message());
+
+  if (options.progress)
+    std::fprintf(stderr, "loading the body, %zu garments and %zu clips\n", config.garments.size(),
+                 config.motions.size());
+  const Assets assets = load_assets(config);
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  const std::vector<Job> jobs = plan_jobs(config, frames);
+
+  std::vector<SequenceOutcome> outcomes(jobs.size());
+  std::vector<size_t> todo;
+  std::vector<std::string> hashes(jobs.size());
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    SequenceOutcome& o = outcomes[i];
+    o.name = jobs[i].name;
+    o.split = jobs[i].split;
+    hashes[i] = job_hash(job_identity(config, jobs[i]).dump());
+    const std::string dir = out + "/" + jobs[i].name;
+    const std::string rejected = out + "/.rejected/" + jobs[i].name + ".json";
+    if (options.dry_run) {
+      o.status = "planned";
+    } else if (const Json recorded = sequence_complete(dir) ? recorded_simulator(dir) : Json::object();
+               recorded.value("job_hash", "") == hashes[i]) {
+      o.status = "kept";
+      const Json check = recorded.value("check", Json::object());
+      o.check.max_distance = check.value("max_distance", 0.0);
+      o.check.max_penetrating_fraction = check.value("max_penetrating_fraction", 0.0);
+    } else if (fs::exists(rejected) && [&] {
+                 std::ifstream in(rejected);
+                 const Json j = Json::parse(in, nullptr, false);
+                 if (j.is_discarded() || j.value("job_hash", "") != hashes[i]) return false;
+                 o.message = j.value("reason", "");
+                 return true;
+               }()) {
+      o.status = "rejected";
+    } else if (options.only.empty() || jobs[i].name.find(options.only) != std::string::npos) {
+      todo.push_back(i);
+    } else {
+      o.status = "skipped";
+    }
+  }
+  if (options.dry_run) {
+    for (const Job& j : jobs) std::printf("%-10s %s\n", j.split.c_str(), j.name.c_str());
+  }
+
+  std::atomic<size_t> next{0};
+  std::atomic<int> finished{0};
+  std::mutex mutex;  // guards `running` and the outcome lines
+  std::vector<std::pair<std::string, std::pair<int64_t, int64_t>>> running(static_cast<size_t>(options.jobs));
+  const bool tty = isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  const auto worker = [&](size_t slot) {
+    for (size_t k; (k = next++) < todo.size();) {
+      const size_t i = todo[k];
+      const Job& job = jobs[i];
+      SequenceOutcome& o = outcomes[i];
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::string dir = out + "/" + job.name, work = out + "/.work/" + job.name;
+      {
+        std::lock_guard<std::mutex> lock(mutex);
+        running[slot] = {job.name, {0, 0}};
+      }
+      try {
+        fs::remove(dir + "/meta.json");  // an older job's folder stops counting as complete first
+        const SequenceInputs in = prepare_sequence(config, assets, job);
+        const BlenderResult sim = run_blender(config, config.garments[job.garment], in, work,
+                                              options.blender_threads, [&](int64_t done, int64_t total) {
+                                                std::lock_guard<std::mutex> lock(mutex);
+                                                running[slot].second = {done, total};
+                                              });
+        const int64_t n = in.garment_rest.vertex_count(), nb = in.body->vertex_count();
+        const std::vector<float> kept(sim.garment_frames.begin() + in.lead_in * n * 3,
+                                      sim.garment_frames.end());
+        const std::vector<float> body(in.body_frames.begin() + in.lead_in * nb * 3, in.body_frames.end());
+        o.check = check_simulation(kept, n, body, in.body->rest.triangles, in.motion.frame_count - in.lead_in,
+                                   config.check);
+        if (sim.body_cache_error > 1e-4) {
+          o.check.passed = false;
+          o.check.reason = "Blender's body strays " + std::to_string(sim.body_cache_error) +
+                           " m from body.pc2: the cache frames are mapped wrongly";
+        }
+        if (o.check.passed) {
+          write_sequence(dir, sequence_of(config, job, in, sim, o.check, hashes[i]));
+          read_sequence(dir);  // every file written is read back and checked
+          fs::remove_all(work);
+          o.status = "done";
+        } else {
+          o.status = "rejected";
+          o.message = o.check.reason;
+          fs::create_directories(out + "/.rejected");
+          write_json(
+              out + "/.rejected/" + job.name + ".json",
+              {{"job_hash", hashes[i]}, {"reason", o.check.reason}, {"max_distance", o.check.max_distance}});
+        }
+      } catch (const std::exception& e) {
+        o.status = "failed";
+        o.message = e.what();
+      }
+      o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::lock_guard<std::mutex> lock(mutex);
+      running[slot] = {"", {0, 0}};
+      ++finished;
+      if (options.progress) {
+        if (tty) std::fprintf(stderr, "\r\033[K");
+        std::fprintf(stderr, "%-8s %s (%s, %.0f s%s%s)\n", o.status.c_str(), o.name.c_str(), o.split.c_str(),
+                     o.seconds, o.message.empty() ? "" : ": ", o.message.c_str());
+      }
+    }
+  };
+  if (!todo.empty()) {
+    if (options.progress)
+      std::fprintf(stderr, "%zu sequences planned, %zu to simulate in %s\n", jobs.size(), todo.size(),
+                   out.c_str());
+    std::vector<std::thread> threads;
+    for (int t = 0; t < options.jobs; ++t) threads.emplace_back(worker, static_cast<size_t>(t));
+    while (finished < static_cast<int>(todo.size())) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      if (!options.progress || !tty) continue;
+      std::lock_guard<std::mutex> lock(mutex);
+      const int done = finished;
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      double partial = done;
+      std::string now;
+      for (const auto& [name, progress] : running)
+        if (!name.empty()) {
+          if (progress.second > 0) partial += double(progress.first) / double(progress.second);
+          now += " | " + name + " " + std::to_string(progress.first) + "/" + std::to_string(progress.second);
+        }
+      const int width = 24, filled = static_cast<int>(width * partial / double(todo.size()));
+      const std::string bar = std::string(static_cast<size_t>(filled), '#') +
+                              std::string(static_cast<size_t>(width - filled), '.');
+      const std::string eta =
+          partial > 0.05 ? duration(elapsed * (double(todo.size()) - partial) / partial) : "?";
+      std::fprintf(stderr, "\r\033[K[%s] %d/%zu, %s, eta %s%s", bar.c_str(), done, todo.size(),
+                   duration(elapsed).c_str(), eta.c_str(), now.substr(0, 120).c_str());
+    }
+    for (std::thread& t : threads) t.join();
+    if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
+  }
+
+  if (!options.dry_run) {
+    std::string tsv = "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmessage\n";
+    Json splits = {{"train", Json::array()}, {"validation", Json::array()}, {"test", Json::array()}};
+    for (size_t i = 0; i < jobs.size(); ++i) {
+      const SequenceOutcome& o = outcomes[i];
+      char numbers[96];
+      std::snprintf(numbers, sizeof numbers, "%.1f\t%.4f\t%.4f", o.seconds, o.check.max_distance,
+                    o.check.max_penetrating_fraction);
+      std::string message = o.message;
+      for (char& ch : message)
+        if (ch == '\t' || ch == '\n') ch = ' ';
+      tsv += o.name + "\t" + o.split + "\t" + o.status + "\t" + numbers + "\t" + message + "\n";
+      if ((o.status == "done" || o.status == "kept") && sequence_complete(out + "/" + o.name))
+        splits[o.split].push_back(o.name);
+    }
+    AtomicFile f(out + "/report.tsv");
+    f.write(tsv);
+    f.commit();
+    write_json(out + "/splits.json", splits);
+  }
+  report.sequences = std::move(outcomes);
+  return report;
+}
+
+}  // namespace pleat::datagen

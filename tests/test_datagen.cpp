@@ -1,0 +1,262 @@
+// pleat datagen without Blender: the config reader and its errors, the plan
+// (segments, splits, held-out garments), the settling lead-in, pinning and the
+// acceptance check. test_datagen_blender.cpp runs the simulator itself.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "body/makehuman.h"
+#include "config.h"
+#include "garment_check.h"
+#include "metrics/nearest_points.h"
+#include "plan.h"
+#include "sequence_inputs.h"
+#include "support/expect_error.h"
+#include "support/test_support.h"
+
+using namespace pleat;
+using namespace pleat::datagen;
+using pleat_test::expect_error;
+
+namespace {
+
+// A config with every asset real; `extra` is spliced in before the closing brace.
+std::string config_text(const std::string& extra = "") {
+  const std::string a = pleat_test::asset_dir();
+  return "{\"name\": \"t\", \"body\": \"" + a +
+         "/body\", \"sequences\": {\"train\": 4, \"test\": 2, \"held_out\": 2},\n"
+         "\"garments\": [{\"name\": \"dress\", \"mhclo\": \"" +
+         a +
+         "/garments/female_elegantsuit01/female_elegantsuit01.mhclo\"},\n"
+         "  {\"name\": \"skirt\", \"mhclo\": \"" +
+         a +
+         "/garments/helpers_mhclo/skirthelper.mhclo\", \"held_out\": true}],\n"
+         "\"shapes\": [{\"name\": \"f\", \"values\": {\"gender\": 0.0}}, {\"name\": \"m\", \"values\": "
+         "{\"gender\": 1.0}}],\n"
+         "\"motions\": [{\"source\": \"" +
+         a +
+         "/motions/cmu_mb/12_03.bvh\"},\n"
+         "  {\"source\": \"" +
+         a +
+         "/motions/cmu_mb/16_57.bvh\"},\n"
+         "  {\"source\": \"" +
+         a + "/motions/cmu_daz/02_02.bvh\", \"split\": \"test\"}]" + extra + "}";
+}
+
+Config parsed(const std::string& extra = "") {
+  return parse_config(config_text(extra), "/tmp/c.json");
+}
+
+}  // namespace
+
+TEST(DatagenConfig, ReadsEverySettingWithDefaults) {
+  const Config c = parsed(", \"cloth\": {\"quality\": 7}, \"collision\": {\"self_collision\": true}");
+  EXPECT_EQ(c.name, "t");
+  EXPECT_EQ(c.garments.size(), 2u);
+  EXPECT_EQ(c.garments[0].name, "dress");
+  EXPECT_TRUE(c.garments[1].held_out);
+  EXPECT_DOUBLE_EQ(c.garments[0].pin_distance, 0.01);
+  EXPECT_EQ(c.motions[0].name, "12_03") << "the file stem names a clip";
+  EXPECT_EQ(c.motions[2].split, "test");
+  EXPECT_EQ(c.motions[0].split, "train");
+  EXPECT_EQ(c.cloth.quality, 7);
+  EXPECT_DOUBLE_EQ(c.cloth.mass, 0.3) << "unset keys keep their defaults";
+  EXPECT_TRUE(c.collision.self_collision);
+  EXPECT_EQ(c.shapes[1].values.at(0), (std::pair<std::string, double>("gender", 1.0)));
+  EXPECT_EQ(c.train, 4);
+  EXPECT_EQ(c.held_out, 2);
+}
+
+TEST(DatagenConfig, ErrorsNameTheField) {
+  const auto I = PLEAT_ERROR_FORMAT;
+  expect_error([] { parsed(", \"cloth\": {\"qualty\": 7}"); }, I, "'cloth.qualty' is not a known setting");
+  expect_error([] { parsed(", \"cloth\": {\"mass\": \"heavy\"}"); }, I, "'cloth.mass' must be a number");
+  expect_error([] { parsed(", \"frame_rate\": -3"); }, I, "'frame_rate' must be in [1, 1000]");
+  expect_error([] { parse_config("{", "c.json"); }, I, "datagen config 'c.json': not valid JSON");
+  std::string text = config_text();
+  text.replace(text.find("skirthelper.mhclo"), 17, "nothere.mhclo");
+  expect_error([&] { parse_config(text, "c.json"); }, I, "'garments[1].mhclo' names '");
+  text = config_text();
+  text.replace(text.find("\"name\": \"skirt\""), 15, "\"name\": \"dress\"");
+  expect_error([&] { parse_config(text, "c.json"); }, I, "'garments[1]' repeats the name 'dress'");
+  text = config_text();
+  text.replace(text.find("\"test\": 2"), 9, "\"validation\": 2");
+  expect_error([&] { parse_config(text, "c.json"); }, I,
+               "validation sequences, but no motion has that split");
+  text = config_text();
+  text.replace(text.find("\"name\": \"f\""), 11, "\"name\": \"f/x\"");
+  expect_error([&] { parse_config(text, "c.json"); }, I, "'shapes[0].name' 'f/x' may hold only");
+  expect_error([] { read_config("/nonexistent/c.json"); }, PLEAT_ERROR_IO, "/nonexistent/c.json");
+}
+
+TEST(DatagenConfig, DefaultOutputIsTheCacheFolder) {
+  setenv("PLEAT_DATA_DIR", "/data/sets", 1);
+  EXPECT_EQ(default_output("x"), "/data/sets/x");
+  unsetenv("PLEAT_DATA_DIR");
+  setenv("XDG_CACHE_HOME", "/c", 1);
+  EXPECT_EQ(default_output("x"), "/c/pleat/datasets/x");
+  unsetenv("XDG_CACHE_HOME");
+  setenv("HOME", "/home/u", 1);
+  EXPECT_EQ(default_output("x"), "/home/u/.cache/pleat/datasets/x");
+}
+
+TEST(DatagenPlan, SegmentsAreSpreadOverTheClipAndMirrored) {
+  Config c = parsed();
+  c.segment_frames = 120;
+  c.segments_per_clip = 2;
+  c.min_segment_frames = 40;
+  c.mirror = false;
+  std::vector<Segment> s = clip_segments(c, 3, 300);
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].first, 0);
+  EXPECT_EQ(s[1].first, 180) << "the last segment ends with the clip";
+  EXPECT_EQ(s[1].count, 120);
+  EXPECT_EQ(s[1].motion, 3u);
+  EXPECT_EQ(clip_segments(c, 0, 200).size(), 1u) << "room for one segment only";
+  s = clip_segments(c, 0, 50);
+  ASSERT_EQ(s.size(), 1u) << "a short clip is one shorter segment";
+  EXPECT_EQ(s[0].count, 50);
+  EXPECT_TRUE(clip_segments(c, 0, 39).empty()) << "below min_segment_frames";
+  c.mirror = true;
+  s = clip_segments(c, 0, 300);
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_FALSE(s[1].mirrored);
+  EXPECT_TRUE(s[2].mirrored);
+  EXPECT_EQ(s[3].first, 180);
+}
+
+TEST(DatagenPlan, SplitsFollowTheProtocol) {
+  Config c = parsed();
+  c.train = 6;
+  c.test = 3;
+  c.held_out = 3;
+  c.min_segment_frames = 40;
+  const std::vector<int64_t> frames = {141, 66, 75};  // the clips at 30 fps: one segment each, and its mirror
+  const std::vector<Job> jobs = plan_jobs(c, frames);
+  ASSERT_EQ(jobs.size(), 12u);
+  std::set<std::string> names;
+  std::set<size_t> train_motions, test_motions, shapes;
+  for (const Job& j : jobs) {
+    EXPECT_TRUE(names.insert(j.name).second) << j.name << " planned twice";
+    if (j.held_out_garment) {
+      EXPECT_EQ(j.split, "test");
+      EXPECT_EQ(j.garment, 1u) << "only the held-out garment";
+      continue;
+    }
+    EXPECT_EQ(j.garment, 0u) << "a held-out garment is never trained on";
+    (j.split == "train" ? train_motions : test_motions).insert(j.segment.motion);
+    shapes.insert(j.shape);
+    EXPECT_LE(j.segment.first + j.segment.count, frames[j.segment.motion]);
+  }
+  EXPECT_EQ(train_motions, (std::set<size_t>{0, 1}));
+  EXPECT_EQ(test_motions, (std::set<size_t>{2})) << "a clip is on one side of the split only";
+  EXPECT_EQ(shapes.size(), 2u);
+  EXPECT_EQ(jobs[0].name, "dress-f-12_03-0000");
+  const std::vector<Job> again = plan_jobs(c, frames);
+  for (size_t i = 0; i < jobs.size(); ++i) EXPECT_EQ(again[i].name, jobs[i].name) << "deterministic";
+  // Asking for more than exists gives every combination once: 2 shapes x 2
+  // test segments (plain, mirrored) of the one test clip.
+  c.test = 100;
+  int test = 0;
+  for (const Job& j : plan_jobs(c, frames)) test += j.split == "test" && !j.held_out_garment;
+  EXPECT_EQ(test, 4);
+  expect_error(
+      [&] {
+        plan_jobs(c, {141, 66, 10});
+      },
+      PLEAT_ERROR_INVALID_ARGUMENT, "the test clips give no segment of at least 40 frames");
+}
+
+TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
+  Motion clip;
+  clip.skeleton.names = {"root", "arm"};
+  clip.skeleton.parents = {-1, 0};
+  clip.skeleton.rest_translation = Points3d(2, 3);
+  clip.skeleton.rest_translation << 0, 1, 0, 0.5, 0, 0;
+  clip.skeleton.rest_rotation.assign(2, Eigen::Quaterniond::Identity());
+  clip.frame_count = 2;
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  clip.rotations = {Eigen::Quaterniond::Identity(), q, Eigen::Quaterniond::Identity(), q};
+  clip.root_translation = Points3d(2, 3);
+  clip.root_translation << 0, 0.8, 0, 0.1, 0.8, 0;
+  const Motion m = with_lead_in(clip, 2, 4);
+  ASSERT_EQ(m.frame_count, 8);
+  // The clip starts at 3 m/s along x; the blend lasts T = 4/30 s, so the root
+  // stands still at x = -3 T / 2 = -0.2 and eases in.
+  for (int f = 0; f < 3; ++f) {  // rest frames, then the blend's first frame (u = 0)
+    EXPECT_NEAR(m.frame(f)[1].angularDistance(Eigen::Quaterniond::Identity()), 0.0, 1e-12) << f;
+    EXPECT_NEAR(m.root_translation(f, 0), -0.2, 1e-12) << f;
+    EXPECT_NEAR(m.root_translation(f, 1), 0.8, 1e-12) << f;
+  }
+  // Blend frame 2 of 4: u = 0.5, smoothstep 0.5: half the 90 degrees; the
+  // root at -3 T (1/2 - 1/8 + 1/32).
+  EXPECT_NEAR(m.frame(4)[1].angularDistance(Eigen::Quaterniond::Identity()), M_PI / 4, 1e-12);
+  EXPECT_NEAR(m.root_translation(4, 0), -0.4 * 0.40625, 1e-12);
+  // u = 0.25: smoothstep 0.15625.
+  EXPECT_NEAR(m.frame(3)[1].angularDistance(Eigen::Quaterniond::Identity()), 0.15625 * M_PI / 2, 1e-12);
+  EXPECT_NEAR(m.frame(6)[1].angularDistance(q), 0.0, 1e-12) << "then the clip, unchanged";
+  EXPECT_DOUBLE_EQ(m.root_translation(7, 0), 0.1);
+}
+
+TEST(DatagenInputs, PinsWhereTheGarmentHugsTheBodyAboveTheHips) {
+  const auto model = MakeHumanModel::load(pleat_test::asset_dir() + "/body");
+  const Eigen::VectorXd beta = makehuman_default_beta();
+  const Body body = model->body(beta);
+  const ClothesBinding tights =
+      read_mhclo(pleat_test::asset_dir() + "/garments/helpers_mhclo/tightshelper.mhclo");
+  const Points3d rest = fit_clothes(tights, model->shaped_vertices(beta));
+  const std::vector<int32_t> pinned = pinned_vertices(body, rest, 0.01);
+  ASSERT_FALSE(pinned.empty()) << "the waistband";
+  const double hips = body.skeleton.rest_translation(0, 1);
+  for (int32_t v : pinned) EXPECT_GT(rest(v, 1), hips);
+  const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, rest);
+  size_t close_above = 0;
+  for (Eigen::Index v = 0; v < rest.rows(); ++v)
+    close_above +=
+        rest(v, 1) > hips && (rest.row(v) - body.rest.vertices.row(nearest[size_t(v)])).norm() < 0.01;
+  EXPECT_EQ(pinned.size(), close_above) << "every vertex within 1 cm above the hips";
+  EXPECT_LT(pinned.size(), size_t(rest.rows()) / 2) << "the legs stay free";
+  EXPECT_TRUE(pinned_vertices(body, rest, 0.0).empty()) << "0 pins nothing";
+}
+
+TEST(DatagenCheck, RejectsExplosionsPenetrationAndNaN) {
+  const pleat_test::SimpleMesh sphere = pleat_test::icosphere(2, 0.5f);
+  Triangles triangles(static_cast<Eigen::Index>(sphere.triangles.size() / 3), 3);
+  for (size_t i = 0; i < sphere.triangles.size(); ++i)
+    triangles.data()[i] = static_cast<int32_t>(sphere.triangles[i]);
+  const auto nb = static_cast<int64_t>(sphere.positions.size() / 3);
+  const int64_t frames = 3;
+  std::vector<float> body;
+  for (int64_t f = 0; f < frames; ++f)
+    body.insert(body.end(), sphere.positions.begin(), sphere.positions.end());
+  // The garment: every body vertex pushed out 5 cm along its radius.
+  std::vector<float> garment;
+  for (float x : body) garment.push_back(x * 1.1f);
+  CheckSettings s;
+  CheckReport r = check_simulation(garment, nb, body, triangles, frames, s);
+  EXPECT_TRUE(r.passed) << r.reason;
+  EXPECT_NEAR(r.max_distance, 0.05, 1e-5);
+  EXPECT_EQ(r.max_penetrating_fraction, 0.0);
+
+  std::vector<float> exploded = garment;
+  exploded[(2 * nb + 7) * 3] += 1.0f;  // frame 2, vertex 7 a metre out
+  r = check_simulation(exploded, nb, body, triangles, frames, s);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.reason.find("frame 2, vertex 7"), std::string::npos) << r.reason;
+  EXPECT_EQ(r.max_distance_frame, 2);
+
+  std::vector<float> sunk = garment;
+  for (int64_t v = 0; v < nb / 10; ++v)  // 10% of frame 1's vertices 5 cm inside
+    for (int k = 0; k < 3; ++k) sunk[(nb + v) * 3 + k] = body[(nb + v) * 3 + k] * 0.9f;
+  r = check_simulation(sunk, nb, body, triangles, frames, s);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.reason.find("frame 1:"), std::string::npos) << r.reason;
+  EXPECT_NEAR(r.max_penetrating_fraction, double(nb / 10) / double(nb), 1e-9);
+
+  std::vector<float> broken = garment;
+  broken[5] = std::numeric_limits<float>::quiet_NaN();
+  r = check_simulation(broken, nb, body, triangles, frames, s);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NE(r.reason.find("frame 0, vertex 1 is not finite"), std::string::npos) << r.reason;
+}
