@@ -1,6 +1,6 @@
 #include "config.h"
 
-#include <cstdlib>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -9,6 +9,7 @@
 
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "io/sequence.h"
 
 namespace pleat::datagen {
 namespace {
@@ -268,16 +269,8 @@ Config read_config(const std::string& path) {
   return parse_config(text.str(), path);
 }
 
-std::string default_output(const std::string& name) {
-  if (const char* d = std::getenv("PLEAT_DATA_DIR"); d && *d) return (fs::path(d) / name).string();
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
-    return (fs::path(x) / "pleat" / "datasets" / name).string();
-  const char* home = std::getenv("HOME");
-  return (fs::path(home && *home ? home : ".") / ".cache" / "pleat" / "datasets" / name).string();
-}
-
 std::string output_dir(const Config& config) {
-  return config.output.empty() ? default_output(config.name) : config.output;
+  return config.output.empty() ? default_dataset_dir(config.name) : config.output;
 }
 
 }  // namespace pleat::datagen

@@ -66,7 +66,7 @@ struct MotionSpec {
 struct Config {
   std::string path;    // the config file
   std::string name;    // the data set's name (default output folder)
-  std::string output;  // absolute; empty: default_output()
+  std::string output;  // absolute; empty: the cache folder (output_dir)
   std::string blender = "blender";
   std::string body;  // MakeHuman assets folder, absolute
   std::string rig = "cmu_mb";
@@ -93,11 +93,8 @@ struct Config {
 Config read_config(const std::string& path);
 Config parse_config(const std::string& text, const std::string& path);
 
-// $PLEAT_DATA_DIR/<name>, else $XDG_CACHE_HOME/pleat/datasets/<name>, else
-// ~/.cache/pleat/datasets/<name>.
-std::string default_output(const std::string& name);
-
-// The resolved output folder (config.output or default_output).
+// The resolved output folder: config.output, else default_dataset_dir(name)
+// (io/sequence.h: the cache folder).
 std::string output_dir(const Config& config);
 
 }  // namespace pleat::datagen

@@ -9,6 +9,7 @@
 #include "body/makehuman.h"
 #include "config.h"
 #include "garment_check.h"
+#include "io/sequence.h"
 #include "metrics/nearest_points.h"
 #include "plan.h"
 #include "sequence_inputs.h"
@@ -92,13 +93,13 @@ TEST(DatagenConfig, ErrorsNameTheField) {
 
 TEST(DatagenConfig, DefaultOutputIsTheCacheFolder) {
   setenv("PLEAT_DATA_DIR", "/data/sets", 1);
-  EXPECT_EQ(default_output("x"), "/data/sets/x");
+  EXPECT_EQ(default_dataset_dir("x"), "/data/sets/x");
   unsetenv("PLEAT_DATA_DIR");
   setenv("XDG_CACHE_HOME", "/c", 1);
-  EXPECT_EQ(default_output("x"), "/c/pleat/datasets/x");
+  EXPECT_EQ(default_dataset_dir("x"), "/c/pleat/datasets/x");
   unsetenv("XDG_CACHE_HOME");
   setenv("HOME", "/home/u", 1);
-  EXPECT_EQ(default_output("x"), "/home/u/.cache/pleat/datasets/x");
+  EXPECT_EQ(default_dataset_dir("x"), "/home/u/.cache/pleat/datasets/x");
 }
 
 TEST(DatagenPlan, SegmentsAreSpreadOverTheClipAndMirrored) {

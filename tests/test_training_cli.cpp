@@ -80,3 +80,48 @@ TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
   EXPECT_EQ(lines(root + "/ablation/ablation.md"), 6) << "header, rule and four rows";
   EXPECT_EQ(lines(root + "/ablation/ablation.csv"), 5);
 }
+
+// A data set as pleat datagen leaves it (splits.json), named by "dataset";
+// `pleat-train evaluate` scores LBS and a model on its test split.
+TEST(TrainingCli, EvaluateScoresTheTestSplitOfADataSet) {
+  const std::string root = pleat_test::temp_dir("training_evaluate");
+  pleat_test::write_skirt_walk(root + "/set");
+  std::ofstream(root + "/set/splits.json")
+      << R"({"train": ["skirt_walk"], "validation": [], "test": ["skirt_walk"]})";
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
+  std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
+      "epochs": 1, "batch_frames": 16, "progress": false, "plot": false,
+      "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
+                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  std::string text, baseline;
+  ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
+  const std::string trainer = std::filesystem::path(cli()).parent_path().string() + "/pleat-train";
+  ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --model " + root +
+                                        "/run/model.pleat -o " + root + "/report.md 2>&1",
+                                    &text),
+            0)
+      << text;
+  EXPECT_NE(text.find("### Test split: 1 sequences"), std::string::npos) << text;
+  EXPECT_NE(text.find("| model |"), std::string::npos) << "a row per model, named by its file" << text;
+  EXPECT_EQ(text.find("held-out garments"), std::string::npos) << "no held-out garment in this set";
+  EXPECT_EQ(lines(root + "/report.md"), 7) << "blank, title, blank, header, rule, LBS, the model";
+  // The LBS row is the baseline command's number (both score the same frames).
+  ASSERT_EQ(pleat_test::run_command(trainer + " baseline " + root + "/config.json 2>&1", &baseline), 0);
+  const size_t at = baseline.find("E_verts ");
+  ASSERT_NE(at, std::string::npos) << baseline;
+  const std::string row = "| LBS (nearest body weights) | ";
+  ASSERT_NE(text.find(row), std::string::npos) << text;
+  EXPECT_NEAR(std::stod(text.substr(text.find(row) + row.size())), std::stod(baseline.substr(at + 8)), 1e-3)
+      << baseline << "\n"
+      << text;
+
+  std::ofstream(root + "/both.json") << R"({"dataset": "set", "train": ["set/skirt_walk"],
+      "schedule": "schedule.json", "output": "x"})";
+  EXPECT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/both.json 2>&1", &text), 1);
+  EXPECT_NE(text.find("give either \"dataset\""), std::string::npos) << text;
+  std::ofstream(root + "/none.json")
+      << R"({"dataset": "nothing", "schedule": "schedule.json", "output": "x"})";
+  EXPECT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/none.json 2>&1", &text), 1);
+  EXPECT_NE(text.find("splits.json is missing"), std::string::npos) << text;
+}

@@ -1,5 +1,7 @@
 #include "evaluation.h"
 
+#include <algorithm>
+
 #include "body/skinning.h"
 #include "capi/pleat.h"
 #include "spectral/band_split.h"
@@ -63,6 +65,23 @@ MetricsResult lbs_baseline(const Dataset& data) {
       linear_blend_skinning(rest, weights, matrices, &posed);
       for (Eigen::Index i = 0; i < posed.size(); ++i)
         predicted.push_back(static_cast<float>(posed.data()[i]));
+    }
+    accumulate(&total, sequence_metrics(s, predicted.data()));
+  }
+  return total;
+}
+
+MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model) {
+  MetricsResult total;
+  for (const TrainingSequence& s : data.sequences()) {
+    runtime::Instance instance(model, s.garment, s.body, runtime::InstanceOptions{});
+    const int64_t n = instance.vertex_count(), batch = instance.max_batch();
+    std::vector<float> predicted(static_cast<size_t>(s.frame_count() * n * 3));
+    const runtime::PoseSequence poses = s.poses();
+    for (int64_t f = 0; f < s.frame_count(); f += batch) {
+      runtime::EvaluateOutputs out;
+      out.positions = {predicted.data() + f * n * 3, static_cast<size_t>(n * 3)};
+      instance.evaluate(poses, f, std::min(batch, s.frame_count() - f), runtime::Stage::refinement, out);
     }
     accumulate(&total, sequence_metrics(s, predicted.data()));
   }

@@ -12,6 +12,7 @@
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "evaluation.h"
+#include "io/sequence.h"
 #include "runtime/model_file.h"
 
 namespace pleat::training {
@@ -68,8 +69,31 @@ TrainerConfig read_trainer_config(const std::string& path) {
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   TrainerConfig c;
   try {
-    c.train = folders(j.at("train"), base);
-    if (j.contains("validation")) c.validation = folders(j["validation"], base);
+    if (j.contains("dataset") || j.contains("dataset_name")) {
+      // A data set written by pleat datagen: its splits.json names the folders.
+      if (j.contains("train") || j.contains("validation") || j.contains("test") ||
+          (j.contains("dataset") && j.contains("dataset_name")))
+        bad_config(path, "give either \"dataset\" or \"dataset_name\", or the train/validation/test lists");
+      std::filesystem::path root;
+      if (j.contains("dataset")) {
+        root = j["dataset"].get<std::string>();
+        if (root.is_relative()) root = base / root;
+      } else {
+        root = default_dataset_dir(j["dataset_name"].get<std::string>());
+      }
+      std::ifstream splits_file(root / "splits.json");
+      if (!splits_file)
+        fail(PLEAT_ERROR_IO, "training config '" + path + "': no data set at '" + root.string() +
+                                 "' (splits.json is missing; generate it with pleat datagen)");
+      const Json splits = Json::parse(splits_file);
+      c.train = folders(splits.at("train"), root);
+      c.validation = folders(splits.at("validation"), root);
+      c.test = folders(splits.at("test"), root);
+    } else {
+      c.train = folders(j.at("train"), base);
+      if (j.contains("validation")) c.validation = folders(j["validation"], base);
+      if (j.contains("test")) c.test = folders(j["test"], base);
+    }
     const std::filesystem::path schedule = j.at("schedule").get<std::string>();
     c.schedule_source = (schedule.is_relative() ? base / schedule : schedule).string();
     c.schedule = read_schedule(c.schedule_source);

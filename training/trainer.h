@@ -20,7 +20,7 @@
 namespace pleat::training {
 
 struct TrainerConfig {
-  std::vector<std::string> train, validation;  // sequence folders
+  std::vector<std::string> train, validation, test;  // sequence folders
   Schedule schedule;
   std::string schedule_source = "inline";
   std::string output;  // folder: checkpoint.pt, checkpoint.json, log.csv, model.pleat

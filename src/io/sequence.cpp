@@ -1,6 +1,7 @@
 #include "io/sequence.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -158,6 +159,15 @@ void write_sequence(const std::string& dir, const SequenceData& d) {
   AtomicFile meta(dir + "/meta.json");
   meta.write(meta_json(m).dump(2) + "\n");
   meta.commit();
+}
+
+std::string default_dataset_dir(const std::string& name) {
+  namespace fs = std::filesystem;
+  if (const char* d = std::getenv("PLEAT_DATA_DIR"); d && *d) return (fs::path(d) / name).string();
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    return (fs::path(x) / "pleat" / "datasets" / name).string();
+  const char* home = std::getenv("HOME");
+  return (fs::path(home && *home ? home : ".") / ".cache" / "pleat" / "datasets" / name).string();
 }
 
 bool sequence_complete(const std::string& dir) {

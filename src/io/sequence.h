@@ -53,6 +53,12 @@ struct SequenceData {
 // non-finite value, PLEAT_ERROR_IO when a file cannot be written.
 void write_sequence(const std::string& dir, const SequenceData& data);
 
+// Where a data set named `name` lives unless told otherwise (the cache folder
+// that `pleat datagen` writes and training configs name with "dataset_name"):
+// $PLEAT_DATA_DIR/<name>, else $XDG_CACHE_HOME/pleat/datasets/<name>, else
+// ~/.cache/pleat/datasets/<name>.
+std::string default_dataset_dir(const std::string& name);
+
 // True if `dir` holds a complete sequence (its meta.json exists).
 bool sequence_complete(const std::string& dir);
 

@@ -9,14 +9,22 @@
 //                                                <output>/ablation.md
 //   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
 //                                                on the validation (else training) sequences
+//   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [-o report.md]
+//                                                Table I on the test sequences: LBS and each
+//                                                model (run by the runtime), all of them and
+//                                                split into seen / held-out garments
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "ablation.h"
 #include "core/error.h"
 #include "evaluation.h"
+#include "io/atomic_file.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
 
@@ -27,6 +35,7 @@ const char* kUsage =
     "       pleat-train export config.json -o model.pleat\n"
     "       pleat-train ablation config.json\n"
     "       pleat-train baseline config.json\n"
+    "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [-o report.md]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -82,6 +91,70 @@ int baseline(int argc, char** argv) {
   return 0;
 }
 
+bool held_out_garment(const std::string& dir) {
+  std::ifstream in(dir + "/meta.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_object() && j.contains("simulator") && j["simulator"].value("held_out_garment", false);
+}
+
+std::string table_row(const std::string& name, const pleat::MetricsResult& m) {
+  char row[512];
+  std::snprintf(row, sizeof row, "| %s | %.3f | %.2f | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+                name.c_str(), m.e_verts_cm, m.e_vnorm_deg, m.e_fnorm_deg, m.e_edge_percent, m.e_curv,
+                m.e_low_cm, m.e_mid_cm, m.e_high_cm, m.self_collision_percent);
+  return row;
+}
+
+int evaluate(int argc, char** argv) {
+  if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
+  const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
+  std::vector<std::string> models;
+  std::string output;
+  for (int i = 3; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
+      models.push_back(argv[++i]);
+    } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
+      output = argv[++i];
+    } else {
+      throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
+    }
+  }
+  if (c.test.empty()) throw std::invalid_argument("the config names no test sequences");
+  std::vector<std::string> seen, held_out;
+  for (const std::string& d : c.test) (held_out_garment(d) ? held_out : seen).push_back(d);
+  std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>> loaded;
+  for (const std::string& m : models)
+    loaded.emplace_back(std::filesystem::path(m).stem().string(), pleat::runtime::load_model_file(m));
+  std::string report;
+  const auto section = [&](const std::string& title, const std::vector<std::string>& dirs) {
+    if (dirs.empty()) return;
+    std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
+    const pleat::training::Dataset data(dirs);
+    const pleat::MetricsResult lbs = pleat::training::lbs_baseline(data);
+    report +=
+        "\n### " + title + ": " + std::to_string(dirs.size()) + " sequences, " +
+        std::to_string(lbs.frame_count) + " frames\n\n" +
+        "| | E_verts cm | E_vnorm deg | E_fnorm deg | E_edge % | E_curv | E_low cm | E_mid cm | E_high cm | "
+        "self-collision % |\n|---|---|---|---|---|---|---|---|---|---|\n" +
+        table_row("LBS (nearest body weights)", lbs);
+    for (const auto& [name, model] : loaded)
+      report += table_row(name, pleat::training::model_metrics(data, model));
+  };
+  section("Test split", c.test);
+  if (!seen.empty() && !held_out.empty()) {
+    section("Test, garments seen in training", seen);
+    section("Test, held-out garments", held_out);
+  }
+  std::fputs(report.c_str(), stdout);
+  if (!output.empty()) {
+    pleat::AtomicFile f(output);
+    f.write(report);
+    f.commit();
+    std::fprintf(stderr, "wrote %s\n", output.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -91,6 +164,7 @@ int main(int argc, char** argv) {
     if (command == "export") return export_model(argc, argv);
     if (command == "ablation") return ablation(argc, argv);
     if (command == "baseline") return baseline(argc, argv);
+    if (command == "evaluate") return evaluate(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
   } catch (const pleat::Error& e) {
