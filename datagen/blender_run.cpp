@@ -38,6 +38,7 @@ nlohmann::json simulator_settings(const Config& config, const GarmentSpec& garme
           {"rest_frames", config.rest_frames},
           {"blend_frames", config.blend_frames},
           {"pin_distance", garment.pin_distance},
+          {"pin_band", garment.pin_band},
           {"cloth",
            {{"quality", c.quality},
             {"mass", c.mass},

@@ -196,6 +196,7 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.name = checked_name(g, "name", fs::path(spec.mhclo).stem().string());
     spec.held_out = g.flag("held_out", false);
     spec.pin_distance = g.number("pin_distance", spec.pin_distance, 0, 0.2);
+    spec.pin_band = g.number("pin_band", spec.pin_band, 0.001, 2);
     g.done();
     c.garments.push_back(spec);
   }

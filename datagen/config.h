@@ -45,9 +45,11 @@ struct GarmentSpec {
   std::string name;
   std::string mhclo;      // absolute
   bool held_out = false;  // only in the test split (garments unseen in training)
-  // Vertices closer than this to the rest body and above the hips follow the
-  // skinned body (waistbands, shoulders); 0 pins nothing.
+  // Pinned vertices follow the skinned body: those of each piece's top band
+  // (pin_band below its highest point) closer than pin_distance to the body
+  // (sequence_inputs.h pinned_vertices); pin_distance 0 pins nothing.
   double pin_distance = 0.01;
+  double pin_band = 0.05;
 };
 
 struct ShapeSpec {

@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 // Bumped when the pipeline changes what a job produces, so old folders are redone.
-constexpr int kPipelineVersion = 1;
+constexpr int kPipelineVersion = 2;
 
 Json job_identity(const Config& c, const Job& job) {
   const GarmentSpec& g = c.garments[job.garment];

@@ -6,6 +6,7 @@
 #include "body/body_source.h"
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "core/topology.h"
 #include "io/bvh.h"
 #include "io/obj_reader.h"
 #include "metrics/nearest_points.h"
@@ -81,15 +82,33 @@ Motion with_lead_in(const Motion& clip, int64_t rest_frames, int64_t blend_frame
   return out;
 }
 
-std::vector<int32_t> pinned_vertices(const Body& body, const Points3d& garment_rest, double distance) {
+std::vector<int32_t> pinned_vertices(const Body& body, const TriMesh& garment, double distance, double band) {
   std::vector<int32_t> pinned;
   if (distance <= 0) return pinned;
-  const double hips = body.skeleton.rest_translation(0, 1);
-  const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, garment_rest);
-  for (Eigen::Index v = 0; v < garment_rest.rows(); ++v)
-    if (garment_rest(v, 1) > hips &&
-        (garment_rest.row(v) - body.rest.vertices.row(nearest[static_cast<size_t>(v)])).norm() < distance)
-      pinned.push_back(static_cast<int32_t>(v));
+  const Points3d& x = garment.vertices;
+  std::vector<int32_t> label;
+  const int32_t components =
+      connected_components(edge_graph(unique_edges(garment.triangles), garment.vertex_count()), &label);
+  std::vector<double> top(static_cast<size_t>(components), -1e300);
+  std::vector<int32_t> size(static_cast<size_t>(components), 0);
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    top[static_cast<size_t>(label[v])] = std::max(top[static_cast<size_t>(label[v])], x(v, 1));
+    ++size[static_cast<size_t>(label[v])];
+  }
+  const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, x);
+  std::vector<uint8_t> in_band(static_cast<size_t>(x.rows())), close(static_cast<size_t>(x.rows()));
+  std::vector<int32_t> close_in_band(static_cast<size_t>(components), 0);
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    const auto c = static_cast<size_t>(label[v]);
+    in_band[v] = x(v, 1) > top[c] - band;
+    close[v] = (x.row(v) - body.rest.vertices.row(nearest[static_cast<size_t>(v)])).norm() < distance;
+    close_in_band[c] += in_band[v] && close[v];
+  }
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    const auto c = static_cast<size_t>(label[v]);
+    const bool pin = size[c] <= kRigidPieceVertices || (in_band[v] && (close[v] || close_in_band[c] == 0));
+    if (pin) pinned.push_back(static_cast<int32_t>(v));
+  }
   return pinned;
 }
 
@@ -126,7 +145,8 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
   skin_frames(in.garment_rest.vertices, weights, in.motion, 0, in.motion.frame_count, &workspace,
               skinned.data(), skinned.size());
   in.garment_skinned.assign(skinned.begin(), skinned.end());
-  in.pinned = pinned_vertices(body, in.garment_rest.vertices, config.garments[job.garment].pin_distance);
+  const GarmentSpec& g = config.garments[job.garment];
+  in.pinned = pinned_vertices(body, in.garment_rest, g.pin_distance, g.pin_band);
   return in;
 }
 

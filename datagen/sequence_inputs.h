@@ -54,8 +54,13 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
 // clip's frames follow unchanged.
 Motion with_lead_in(const Motion& clip, int64_t rest_frames, int64_t blend_frames);
 
-// Garment vertices closer than `distance` to a rest body vertex and above the
-// root joint: where clothes hold on (waistbands, shoulders).
-std::vector<int32_t> pinned_vertices(const Body& body, const Points3d& garment_rest, double distance);
+// Where clothes hold on, per piece (connected component) of the rest garment:
+// the vertices of its top band (within `band` of its highest point: a
+// waistband, collar, shoulders) that are closer than `distance` to a rest body
+// vertex, or the whole band if none is that close (the piece hangs from it).
+// Pieces of at most kRigidPieceVertices vertices (buttons, loops) are pinned
+// whole. distance <= 0 pins nothing.
+constexpr int32_t kRigidPieceVertices = 64;
+std::vector<int32_t> pinned_vertices(const Body& body, const TriMesh& garment, double distance, double band);
 
 }  // namespace pleat::datagen

@@ -8,9 +8,10 @@
 
 #include "body/makehuman.h"
 #include "config.h"
+#include "core/topology.h"
 #include "garment_check.h"
+#include "io/obj_reader.h"
 #include "io/sequence.h"
-#include "metrics/nearest_points.h"
 #include "plan.h"
 #include "sequence_inputs.h"
 #include "support/expect_error.h"
@@ -200,25 +201,61 @@ TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
   EXPECT_DOUBLE_EQ(m.root_translation(7, 0), 0.1);
 }
 
-TEST(DatagenInputs, PinsWhereTheGarmentHugsTheBodyAboveTheHips) {
+// Three pieces: a strip whose top touches the body (pinned where it touches),
+// a strip hanging clear of it (pinned along its whole top band) and a small
+// button (pinned whole).
+TEST(DatagenInputs, PinsEachPieceByItsTopBand) {
+  Body body;
+  body.rest.vertices = Points3d(2, 3);
+  body.rest.vertices << 0, 1.0, 0, 5, 1.0, 0;
+  TriMesh g;
+  std::vector<double> xyz;
+  std::vector<int32_t> tri;
+  const auto strip = [&](double x0, double y0, int columns, int rows, double step) {
+    const auto first = static_cast<int32_t>(xyz.size() / 3);
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < columns; ++c) xyz.insert(xyz.end(), {x0 + c * step, y0 - r * step, 0.0});
+    for (int r = 0; r + 1 < rows; ++r)
+      for (int c = 0; c + 1 < columns; ++c) {
+        const int32_t a = first + r * columns + c, b = a + 1, d = a + columns, e = d + 1;
+        tri.insert(tri.end(), {a, d, b, b, d, e});
+      }
+  };
+  strip(-0.045, 1.005, 10, 10, 0.01);  // 100 vertices: top row at y 1.005, x -0.045 .. 0.045
+  strip(2.0, 1.0, 10, 10, 0.02);       // 100 vertices, far from the body
+  strip(3.0, 0.0, 2, 2, 0.01);         // a 4-vertex button
+  g.vertices = Eigen::Map<const Points3d>(xyz.data(), Eigen::Index(xyz.size() / 3), 3);
+  g.triangles = Eigen::Map<const Triangles>(tri.data(), Eigen::Index(tri.size() / 3), 3);
+  const std::vector<int32_t> pinned = pinned_vertices(body, g, 0.01, 0.05);
+  std::vector<int32_t> expected;
+  for (int32_t v = 0; v < 100; ++v) {  // within 5 cm of the top row and 1 cm of (0, 1, 0)
+    const double x = -0.045 + 0.01 * (v % 10), y = 1.005 - 0.01 * (v / 10);
+    if (y > 1.005 - 0.05 && std::hypot(x, y - 1.0) < 0.01) expected.push_back(v);
+  }
+  for (int32_t v = 100; v < 130; ++v)
+    expected.push_back(v);  // rows 0-2 of the hanging strip: within 5 cm of its top
+  for (int32_t v = 200; v < 204; ++v) expected.push_back(v);  // the button
+  EXPECT_EQ(pinned, expected);
+  EXPECT_TRUE(pinned_vertices(body, g, 0.0, 0.05).empty()) << "0 pins nothing";
+}
+
+// Every piece of a real garment holds on somewhere, and most of it is free.
+TEST(DatagenInputs, EveryPieceOfAGarmentIsPinned) {
   const auto model = MakeHumanModel::load(pleat_test::asset_dir() + "/body");
   const Eigen::VectorXd beta = makehuman_default_beta();
   const Body body = model->body(beta);
-  const ClothesBinding tights =
-      read_mhclo(pleat_test::asset_dir() + "/garments/helpers_mhclo/tightshelper.mhclo");
-  const Points3d rest = fit_clothes(tights, model->shaped_vertices(beta));
-  const std::vector<int32_t> pinned = pinned_vertices(body, rest, 0.01);
-  ASSERT_FALSE(pinned.empty()) << "the waistband";
-  const double hips = body.skeleton.rest_translation(0, 1);
-  for (int32_t v : pinned) EXPECT_GT(rest(v, 1), hips);
-  const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, rest);
-  size_t close_above = 0;
-  for (Eigen::Index v = 0; v < rest.rows(); ++v)
-    close_above +=
-        rest(v, 1) > hips && (rest.row(v) - body.rest.vertices.row(nearest[size_t(v)])).norm() < 0.01;
-  EXPECT_EQ(pinned.size(), close_above) << "every vertex within 1 cm above the hips";
-  EXPECT_LT(pinned.size(), size_t(rest.rows()) / 2) << "the legs stay free";
-  EXPECT_TRUE(pinned_vertices(body, rest, 0.0).empty()) << "0 pins nothing";
+  const std::string dir = pleat_test::asset_dir() + "/garments/female_casualsuit02/";
+  TriMesh g = read_obj_file_order(dir + "female_casualsuit02.obj");
+  g.vertices = fit_clothes(read_mhclo(dir + "female_casualsuit02.mhclo"), model->shaped_vertices(beta));
+  std::vector<int32_t> label;
+  const int32_t pieces =
+      connected_components(edge_graph(unique_edges(g.triangles), g.vertex_count()), &label);
+  ASSERT_EQ(pieces, 3) << "top, skirt, belt";
+  const std::vector<int32_t> pinned = pinned_vertices(body, g, 0.01, 0.05);
+  std::set<int32_t> held;
+  for (int32_t v : pinned) held.insert(label[size_t(v)]);
+  EXPECT_EQ(held.size(), 3u);
+  EXPECT_LT(pinned.size(), size_t(g.vertex_count()) / 4);
 }
 
 TEST(DatagenCheck, RejectsExplosionsPenetrationAndNaN) {
