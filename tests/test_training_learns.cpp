@@ -114,7 +114,7 @@ TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {
   ASSERT_EQ(data.sequences().size(), 2u);
   EXPECT_EQ(data.sequences()[0].garment, data.sequences()[1].garment) << "one garment name, prepared once";
   std::mt19937_64 rng(5);
-  const auto batches = data.epoch(16, rng);
+  const auto batches = data.epoch(16, 0, rng);
   std::set<std::pair<size_t, int64_t>> seen;
   size_t mixed = 0;
   for (const Dataset::Batch& batch : batches) {
@@ -128,6 +128,20 @@ TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {
   }
   EXPECT_EQ(seen.size(), size_t(data.frame_count()));
   EXPECT_GT(mixed, 0u) << "batches draw frames from both sequences";
+
+  // One sequence per batch: every frame still once, and no batch mixes.
+  seen.clear();
+  const auto single = data.epoch(16, 1, rng);
+  for (const Dataset::Batch& batch : single) {
+    EXPECT_EQ(batch.size(), 1u);
+    EXPECT_LE(batch[0].frames.size(), 16u);
+    for (int64_t f : batch[0].frames)
+      EXPECT_TRUE(seen.insert({batch[0].sequence, f}).second) << "frame twice";
+  }
+  EXPECT_EQ(seen.size(), size_t(data.frame_count()));
+  size_t expected = 0;
+  for (const auto& sequence : data.sequences()) expected += size_t(sequence.frame_count() + 15) / 16;
+  EXPECT_EQ(single.size(), expected) << "full batches and one short one per sequence";
 }
 
 // The LBS baseline skins the rest skirt with the nearest body weights: the

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <numeric>
 
 #include "body/body_source.h"
 #include "capi/pleat.h"
@@ -83,20 +84,40 @@ int64_t Dataset::frame_count() const {
   return total;
 }
 
-std::vector<Dataset::Batch> Dataset::epoch(int64_t batch_frames, std::mt19937_64& rng) const {
-  std::vector<std::pair<size_t, int64_t>> all;
-  for (size_t s = 0; s < sequences_.size(); ++s)
-    for (int64_t f = 0; f < sequences_[s].frame_count(); ++f) all.emplace_back(s, f);
-  std::shuffle(all.begin(), all.end(), rng);
+std::vector<Dataset::Batch> Dataset::epoch(int64_t batch_frames, int64_t sequences_per_batch,
+                                           std::mt19937_64& rng) const {
+  // Chunks of one sequence's frames, shuffled; a batch is consecutive chunks.
+  // With no limit a chunk is one frame, so batches mix sequences freely.
+  const int64_t chunk =
+      sequences_per_batch > 0 ? (batch_frames + sequences_per_batch - 1) / sequences_per_batch : 1;
+  std::vector<std::pair<size_t, std::vector<int64_t>>> chunks;
+  for (size_t s = 0; s < sequences_.size(); ++s) {
+    std::vector<int64_t> frames(static_cast<size_t>(sequences_[s].frame_count()));
+    std::iota(frames.begin(), frames.end(), int64_t{0});
+    if (chunk > 1) std::shuffle(frames.begin(), frames.end(), rng);
+    for (size_t i = 0; i < frames.size(); i += static_cast<size_t>(chunk))
+      chunks.emplace_back(s, std::vector<int64_t>(frames.begin() + static_cast<std::ptrdiff_t>(i),
+                                                  frames.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                                       frames.size(), i + size_t(chunk)))));
+  }
+  std::shuffle(chunks.begin(), chunks.end(), rng);
   std::vector<Batch> batches;
-  for (size_t start = 0; start < all.size(); start += static_cast<size_t>(batch_frames)) {
-    const size_t end = std::min(all.size(), start + static_cast<size_t>(batch_frames));
-    std::map<size_t, std::vector<int64_t>> by_sequence;
-    for (size_t i = start; i < end; ++i) by_sequence[all[i].first].push_back(all[i].second);
+  std::map<size_t, std::vector<int64_t>> by_sequence;
+  int64_t in_batch = 0;
+  const auto flush = [&] {
     Batch batch;
     for (auto& [sequence, frames] : by_sequence) batch.push_back({sequence, std::move(frames)});
     batches.push_back(std::move(batch));
+    by_sequence.clear();
+    in_batch = 0;
+  };
+  for (auto& [sequence, frames] : chunks) {
+    if (in_batch + static_cast<int64_t>(frames.size()) > batch_frames) flush();
+    in_batch += static_cast<int64_t>(frames.size());
+    auto& into = by_sequence[sequence];
+    into.insert(into.end(), frames.begin(), frames.end());
   }
+  if (in_batch > 0) flush();
   return batches;
 }
 

@@ -42,15 +42,18 @@ class Dataset {
   int64_t frame_count() const;
 
   // One epoch's mini-batches: every frame of every sequence once, shuffled
-  // together with `rng` and cut into batches of at most `batch_frames`, so a
-  // batch mixes garments, bodies and motions. Within a batch the frames are
-  // grouped by sequence (one network pass per group).
+  // with `rng` and cut into batches of at most `batch_frames`. Within a batch
+  // the frames are grouped by sequence (one network pass, and one body
+  // encoding, per group). sequences_per_batch 0: frames are shuffled together,
+  // so a batch mixes garments, bodies and motions freely; k > 0: a batch holds
+  // ceil(batch_frames / k)-frame chunks of at most k sequences, which costs k
+  // body encodings per batch instead of up to batch_frames.
   struct Part {
     size_t sequence;
     std::vector<int64_t> frames;
   };
   using Batch = std::vector<Part>;
-  std::vector<Batch> epoch(int64_t batch_frames, std::mt19937_64& rng) const;
+  std::vector<Batch> epoch(int64_t batch_frames, int64_t sequences_per_batch, std::mt19937_64& rng) const;
 
  private:
   std::vector<TrainingSequence> sequences_;

@@ -101,6 +101,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
     c.output = (output.is_relative() ? base / output : output).string();
     c.epochs = j.value("epochs", c.epochs);
     c.batch_frames = j.value("batch_frames", c.batch_frames);
+    c.sequences_per_batch = j.value("sequences_per_batch", c.sequences_per_batch);
     c.learning_rate = j.value("learning_rate", c.learning_rate);
     c.min_learning_rate = j.value("min_learning_rate", c.min_learning_rate);
     c.seed = j.value("seed", c.seed);
@@ -124,6 +125,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
   }
   if (c.train.empty()) bad_config(path, "train lists no sequence");
   if (c.epochs < 1 || c.batch_frames < 1) bad_config(path, "epochs and batch_frames must be >= 1");
+  if (c.sequences_per_batch < 0) bad_config(path, "sequences_per_batch must be >= 0");
   c.model.seed = c.seed;
   return c;
 }
@@ -201,7 +203,8 @@ EpochResult Trainer::train_epoch() {
   optimizer_->set_learning_rate(r.learning_rate);
   const bool frozen = schedule_.encoders_frozen();
   for (torch::Tensor& p : network_->encoder_parameters()) p.set_requires_grad(!frozen);
-  const std::vector<Dataset::Batch> batches = train_.epoch(config_.batch_frames, rng_);
+  const std::vector<Dataset::Batch> batches =
+      train_.epoch(config_.batch_frames, config_.sequences_per_batch, rng_);
   double loss_sum = 0, vertex_sum = 0;
   int64_t frames = 0;
   for (size_t b = 0; b < batches.size(); ++b) {

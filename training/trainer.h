@@ -26,6 +26,7 @@ struct TrainerConfig {
   std::string output;  // folder: checkpoint.pt, checkpoint.json, log.csv, model.pleat
   int64_t epochs = 100;
   int64_t batch_frames = 4;
+  int64_t sequences_per_batch = 0;  // 0: batches mix frames freely (Dataset::epoch)
   double learning_rate = 3e-3, min_learning_rate = 0.0;
   uint64_t seed = 1;
   bool frequency_division = true;  // false: plain vertex loss (the ablation without FreqDiv)
