@@ -48,10 +48,16 @@ std::vector<Job> plan_jobs(const Config& config, const std::vector<int64_t>& mot
       if (held_out ? ms == "validation" : ms != split) continue;
       for (const Segment& s : clip_segments(config, m, motion_frames[m])) pool.push_back(s);
     }
-    std::vector<std::pair<size_t, size_t>> pairs;  // garment, shape
+    // Every garment x shape pair once, by diagonals: pair (k-th garment, shape
+    // (k + d) mod B) for d = 0, 1, ..., so the first pairs of a short split
+    // already differ in garment and in shape.
+    std::vector<size_t> garments;
     for (size_t g = 0; g < config.garments.size(); ++g)
-      if (config.garments[g].held_out == held_out)
-        for (size_t b = 0; b < config.shapes.size(); ++b) pairs.emplace_back(g, b);
+      if (config.garments[g].held_out == held_out) garments.push_back(g);
+    std::vector<std::pair<size_t, size_t>> pairs;  // garment, shape
+    const size_t shapes = config.shapes.size();
+    for (size_t d = 0; d < shapes; ++d)
+      for (size_t k = 0; k < garments.size(); ++k) pairs.emplace_back(garments[k], (k + d) % shapes);
     if (wanted == 0) return;
     if (pool.empty())
       fail(PLEAT_ERROR_INVALID_ARGUMENT,
