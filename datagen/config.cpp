@@ -71,6 +71,7 @@ class Fields {
     return v;
   }
   std::string join(const std::string& key) const { return where_.empty() ? key : where_ + "." + key; }
+  const std::string& source() const { return source_; }
   void done() const {
     for (const auto& [key, value] : j_.items())
       if (!used_.count(key)) bad("is not a known setting", key);
@@ -135,6 +136,21 @@ void require_unique(const std::vector<Spec>& specs, const Fields& f, const std::
       f.bad("repeats the name '" + specs[i].name + "'", list + "[" + std::to_string(i) + "]");
 }
 
+// A non-empty list of objects read by `read` (which names fields through its
+// Fields), with unknown keys refused and names unique.
+template <typename Spec, typename Read>
+std::vector<Spec> read_list(Fields& f, const std::string& key, Read&& read) {
+  const Json& list = f.list(key);
+  std::vector<Spec> out;
+  for (size_t i = 0; i < list.size(); ++i) {
+    Fields item(list[i], f.source(), f.join(key + "[" + std::to_string(i) + "]"));
+    out.push_back(read(item));
+    item.done();
+  }
+  require_unique(out, f, key);
+  return out;
+}
+
 void require_file(const Fields& f, const std::string& path, const std::string& key) {
   if (!fs::is_regular_file(path)) f.bad("names '" + path + "', which is not a file", key);
 }
@@ -187,9 +203,7 @@ Config parse_config(const std::string& text, const std::string& path) {
     s.done();
     if (c.train + c.validation + c.test + c.held_out == 0) s.bad("asks for no sequence");
   }
-  const Json& garments = f.list("garments");
-  for (size_t i = 0; i < garments.size(); ++i) {
-    Fields g(garments[i], path, "garments[" + std::to_string(i) + "]");
+  c.garments = read_list<GarmentSpec>(f, "garments", [&](Fields& g) {
     GarmentSpec spec;
     spec.mhclo = resolve(assets, g.text("mhclo", "", true));
     require_file(g, spec.mhclo, "mhclo");
@@ -197,13 +211,9 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.held_out = g.flag("held_out", false);
     spec.pin_distance = g.number("pin_distance", spec.pin_distance, 0, 0.2);
     spec.pin_band = g.number("pin_band", spec.pin_band, 0.001, 2);
-    g.done();
-    c.garments.push_back(spec);
-  }
-  require_unique(c.garments, f, "garments");
-  const Json& shapes = f.list("shapes");
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    Fields s(shapes[i], path, "shapes[" + std::to_string(i) + "]");
+    return spec;
+  });
+  c.shapes = read_list<ShapeSpec>(f, "shapes", [&](Fields& s) {
     ShapeSpec spec;
     spec.name = checked_name(s, "name", "");
     if (s.has("values")) {
@@ -214,13 +224,9 @@ Config parse_config(const std::string& text, const std::string& path) {
         spec.values.emplace_back(key, value.get<double>());
       }
     }
-    s.done();
-    c.shapes.push_back(spec);
-  }
-  require_unique(c.shapes, f, "shapes");
-  const Json& motions = f.list("motions");
-  for (size_t i = 0; i < motions.size(); ++i) {
-    Fields m(motions[i], path, "motions[" + std::to_string(i) + "]");
+    return spec;
+  });
+  c.motions = read_list<MotionSpec>(f, "motions", [&](Fields& m) {
     MotionSpec spec;
     spec.source = resolve(assets, m.text("source", "", true));
     require_file(m, spec.source, "source");
@@ -233,10 +239,8 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.split = m.text("split", "train");
     if (spec.split != "train" && spec.split != "validation" && spec.split != "test")
       m.bad("must be \"train\", \"validation\" or \"test\"", "split");
-    m.done();
-    c.motions.push_back(spec);
-  }
-  require_unique(c.motions, f, "motions");
+    return spec;
+  });
   if (f.has("cloth")) read_cloth(f.object("cloth"), &c.cloth);
   if (f.has("collision")) read_collision(f.object("collision"), &c.collision);
   if (f.has("check")) read_check(f.object("check"), &c.check);
