@@ -62,8 +62,9 @@ void write_json(const std::string& path, const Json& j) {
   f.commit();
 }
 
+// The sequence folder's contents: the frames after the lead-in and meta.json.
 SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& in, const BlenderResult& sim,
-                         const CheckReport& check, const std::string& hash) {
+                         const std::string& hash) {
   const Body& body = *in.body;
   const int64_t lead = in.lead_in, kept = in.motion.frame_count - lead;
   const int64_t n = in.garment_rest.vertex_count(), nb = body.vertex_count(), joints = body.joint_count();
@@ -94,9 +95,6 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   s["motion_map"] = c.motions[job.segment.motion].map;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
-  s["check"] = {{"max_distance", check.max_distance},
-                {"max_penetrating_fraction", check.max_penetrating_fraction},
-                {"mean_penetrating_fraction", check.mean_penetrating_fraction}};
   m.simulator_json = s.dump();
   d.garment_rest = in.garment_rest;
   d.garment_frames.assign(sim.garment_frames.begin() + lead * n * 3, sim.garment_frames.end());
@@ -110,6 +108,14 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
       d.root_positions.push_back(static_cast<float>(in.motion.root_translation(f, k)));
   }
   return d;
+}
+
+void record_check(const CheckReport& check, SequenceMeta* meta) {
+  Json s = Json::parse(meta->simulator_json);
+  s["check"] = {{"max_distance", check.max_distance},
+                {"max_penetrating_fraction", check.max_penetrating_fraction},
+                {"mean_penetrating_fraction", check.mean_penetrating_fraction}};
+  meta->simulator_json = s.dump();
 }
 
 std::string duration(double seconds) {
@@ -215,19 +221,17 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
                                                 std::lock_guard<std::mutex> lock(mutex);
                                                 running[slot].second = {done, total};
                                               });
-        const int64_t n = in.garment_rest.vertex_count(), nb = in.body->vertex_count();
-        const std::vector<float> kept(sim.garment_frames.begin() + in.lead_in * n * 3,
-                                      sim.garment_frames.end());
-        const std::vector<float> body(in.body_frames.begin() + in.lead_in * nb * 3, in.body_frames.end());
-        o.check = check_simulation(kept, n, body, in.body->rest.triangles, in.motion.frame_count - in.lead_in,
-                                   config.check);
+        SequenceData d = sequence_of(config, job, in, sim, hashes[i]);
+        o.check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
+                                   in.body->rest.triangles, d.meta.frame_count, config.check);
         if (sim.body_cache_error > 1e-4) {
           o.check.passed = false;
           o.check.reason = "Blender's body strays " + std::to_string(sim.body_cache_error) +
                            " m from body.pc2: the cache frames are mapped wrongly";
         }
         if (o.check.passed) {
-          write_sequence(dir, sequence_of(config, job, in, sim, o.check, hashes[i]));
+          record_check(o.check, &d.meta);
+          write_sequence(dir, d);
           read_sequence(dir);  // every file written is read back and checked
           fs::remove_all(work);
           o.status = "done";
