@@ -42,11 +42,22 @@ std::vector<Job> plan_jobs(const Config& config, const std::vector<int64_t>& mot
            config.motions[s.motion].name + "-" + first + (s.mirrored ? "m" : "");
   };
   const auto draw = [&](const std::string& split, bool held_out, int64_t wanted) {
-    std::vector<Segment> pool;
+    // The pool interleaves the clips (every clip's first segment, then every
+    // clip's second, ...), so that a split's first sequences differ in motion.
+    std::vector<std::vector<Segment>> per_clip;
     for (size_t m = 0; m < config.motions.size(); ++m) {
       const std::string& ms = config.motions[m].split;
       if (held_out ? ms == "validation" : ms != split) continue;
-      for (const Segment& s : clip_segments(config, m, motion_frames[m])) pool.push_back(s);
+      per_clip.push_back(clip_segments(config, m, motion_frames[m]));
+    }
+    std::vector<Segment> pool;
+    for (size_t rank = 0, added = 1; added > 0; ++rank) {
+      added = 0;
+      for (const std::vector<Segment>& segments : per_clip)
+        if (rank < segments.size()) {
+          pool.push_back(segments[rank]);
+          ++added;
+        }
     }
     // Every garment x shape pair once, by diagonals: pair (k-th garment, shape
     // (k + d) mod B) for d = 0, 1, ..., so the first pairs of a short split

@@ -1,8 +1,9 @@
 #pragma once
 // Which sequences a data set holds: every clip cut into segments (and
-// mirrored), segments drawn round-robin per split, garment x shape pairs
-// drawn round-robin alongside (ordered so that consecutive pairs differ in
-// garment and shape: a short split still sees many of both). Deterministic: the same config gives the same plan.
+// mirrored), segments drawn round-robin per split with the clips interleaved,
+// garment x shape pairs drawn round-robin alongside (ordered so that
+// consecutive pairs differ in garment and shape: a short split still sees
+// many of both). Deterministic: the same config gives the same plan.
 //
 // Splits (the paper's protocol): a clip's segments all go to its split, so no
 // motion is on both sides; "held_out" sequences use garments that no other

@@ -3,6 +3,7 @@
 // acceptance check. test_datagen_blender.cpp runs the simulator itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -70,6 +71,25 @@ TEST(DatagenConfig, ReadsEverySettingWithDefaults) {
   EXPECT_EQ(c.held_out, 2);
 }
 
+TEST(DatagenConfig, ShippedDemoConfigIsAsLargeAsTheDataSetMustBe) {
+  // The demo data set: at least 6 garments (some held out of training), 5
+  // body shapes and 15 clips, each split represented.
+  const Config c = read_config(pleat_test::source_dir() + "/data/datagen/demo.json");
+  EXPECT_GE(c.garments.size(), 6u);
+  EXPECT_GE(
+      std::count_if(c.garments.begin(), c.garments.end(), [](const GarmentSpec& g) { return g.held_out; }),
+      1);
+  EXPECT_GE(c.shapes.size(), 5u);
+  EXPECT_GE(c.motions.size(), 15u);
+  std::set<std::string> splits;
+  for (const MotionSpec& m : c.motions) splits.insert(m.split);
+  EXPECT_EQ(splits, (std::set<std::string>{"train", "validation", "test"}));
+  EXPECT_GT(c.train, 0);
+  EXPECT_GT(c.validation, 0);
+  EXPECT_GT(c.test, 0);
+  EXPECT_GT(c.held_out, 0);
+}
+
 TEST(DatagenConfig, ErrorsNameTheField) {
   const auto I = PLEAT_ERROR_FORMAT;
   expect_error([] { parsed(", \"cloth\": {\"qualty\": 7}"); }, I, "'cloth.qualty' is not a known setting");
@@ -126,6 +146,19 @@ TEST(DatagenPlan, SegmentsAreSpreadOverTheClipAndMirrored) {
   EXPECT_FALSE(s[1].mirrored);
   EXPECT_TRUE(s[2].mirrored);
   EXPECT_EQ(s[3].first, 180);
+}
+
+TEST(DatagenPlan, FirstSequencesOfASplitUseDifferentClips) {
+  Config c = parsed();
+  c.train = 2;
+  c.validation = c.test = c.held_out = 0;
+  c.min_segment_frames = 40;
+  // Training clips 0 and 1 give one segment each, and its mirror.
+  const std::vector<Job> jobs = plan_jobs(c, {141, 66, 75});
+  ASSERT_EQ(jobs.size(), 2u);
+  EXPECT_EQ(jobs[0].segment.motion, 0u);
+  EXPECT_EQ(jobs[1].segment.motion, 1u) << "not clip 0's mirror before clip 1";
+  EXPECT_FALSE(jobs[1].segment.mirrored);
 }
 
 TEST(DatagenPlan, SplitsFollowTheProtocol) {
