@@ -116,6 +116,22 @@ TEST(TrainingCli, EvaluateScoresTheTestSplitOfADataSet) {
       << baseline << "\n"
       << text;
 
+  // --stages adds a row per earlier stage; the whole model's row stays the same.
+  std::string staged;
+  ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --stages --model " + root +
+                                        "/run/model.pleat 2>&1",
+                                    &staged),
+            0)
+      << staged;
+  EXPECT_NE(staged.find("| model, skinning stage | "), std::string::npos) << staged;
+  EXPECT_NE(staged.find("| model, blend-shape stage | "), std::string::npos) << staged;
+  const auto model_row = [](const std::string& report) {
+    const size_t at = report.find("| model | ");
+    return at == std::string::npos ? std::string() : report.substr(at, report.find('\n', at) - at);
+  };
+  EXPECT_FALSE(model_row(text).empty()) << text;
+  EXPECT_EQ(model_row(staged), model_row(text));
+
   std::ofstream(root + "/both.json") << R"({"dataset": "set", "train": ["set/skirt_walk"],
       "schedule": "schedule.json", "output": "x"})";
   EXPECT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/both.json 2>&1", &text), 1);

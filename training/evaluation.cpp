@@ -71,7 +71,8 @@ MetricsResult lbs_baseline(const Dataset& data) {
   return total;
 }
 
-MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model) {
+MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                            runtime::Stage stage) {
   MetricsResult total;
   for (const TrainingSequence& s : data.sequences()) {
     runtime::Instance instance(model, s.garment, s.body, runtime::InstanceOptions{});
@@ -81,7 +82,7 @@ MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const run
     for (int64_t f = 0; f < s.frame_count(); f += batch) {
       runtime::EvaluateOutputs out;
       out.positions = {predicted.data() + f * n * 3, static_cast<size_t>(n * 3)};
-      instance.evaluate(poses, f, std::min(batch, s.frame_count() - f), runtime::Stage::refinement, out);
+      instance.evaluate(poses, f, std::min(batch, s.frame_count() - f), stage, out);
     }
     accumulate(&total, sequence_metrics(s, predicted.data()));
   }

@@ -18,8 +18,9 @@ void accumulate(MetricsResult* total, const MetricsResult& m);
 // vertex (no network): the "LBS" row of the comparison tables.
 MetricsResult lbs_baseline(const Dataset& data);
 
-// The model run by the runtime (runtime/instance.h, every stage, as a host
+// The model run by the runtime (runtime/instance.h, up to `stage`, as a host
 // would run it) on every sequence, frame-weighted over the data set.
-MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model);
+MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                            runtime::Stage stage = runtime::Stage::refinement);
 
 }  // namespace pleat::training

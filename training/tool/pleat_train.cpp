@@ -9,7 +9,7 @@
 //                                                <output>/ablation.md
 //   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
 //                                                on the validation (else training) sequences
-//   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [-o report.md]
+//   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [-o report.md]
 //                                                Table I on the test sequences: LBS and each
 //                                                model (run by the runtime), all of them and
 //                                                split into seen / held-out garments
@@ -35,7 +35,8 @@ const char* kUsage =
     "       pleat-train export config.json -o model.pleat\n"
     "       pleat-train ablation config.json\n"
     "       pleat-train baseline config.json\n"
-    "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [-o report.md]\n"
+    "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [-o "
+    "report.md]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -110,9 +111,12 @@ int evaluate(int argc, char** argv) {
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
   std::vector<std::string> models;
   std::string output;
+  bool stages = false;
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
       models.push_back(argv[++i]);
+    } else if (std::strcmp(argv[i], "--stages") == 0) {
+      stages = true;
     } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
       output = argv[++i];
     } else {
@@ -137,8 +141,15 @@ int evaluate(int argc, char** argv) {
         "| | E_verts cm | E_vnorm deg | E_fnorm deg | E_edge % | E_curv | E_low cm | E_mid cm | E_high cm | "
         "self-collision % |\n|---|---|---|---|---|---|---|---|---|---|\n" +
         table_row("LBS (nearest body weights)", lbs);
-    for (const auto& [name, model] : loaded)
+    for (const auto& [name, model] : loaded) {
+      if (stages) {
+        report += table_row(name + ", skinning stage",
+                            pleat::training::model_metrics(data, model, pleat::runtime::Stage::skinning));
+        report += table_row(name + ", blend-shape stage",
+                            pleat::training::model_metrics(data, model, pleat::runtime::Stage::blend_shapes));
+      }
       report += table_row(name, pleat::training::model_metrics(data, model));
+    }
   };
   section("Test split", c.test);
   if (!seen.empty() && !held_out.empty()) {
