@@ -14,6 +14,7 @@
 #include "metrics/nearest_points.h"
 #include "runtime/instance.h"
 #include "runtime/model_file.h"
+#include "support/stage_outputs.h"
 #include "support/test_support.h"
 
 using namespace pleat;
@@ -48,12 +49,8 @@ TEST(DemoModel, IsTrainedAndDrivesTheSampleDress) {
   Instance instance(model, garment, body, InstanceOptions{});
   const int n = instance.vertex_count();
   const PoseSequence poses{rotations.data(), roots.data(), frames, body.joint_count(), 30.0};
-  std::vector<float> skin(size_t(frames) * n * 3), full(skin.size());
-  EvaluateOutputs out;
-  out.positions = {skin.data(), size_t(n) * 3};
-  instance.evaluate(poses, 0, frames, Stage::skinning, out);
-  out.positions = {full.data(), size_t(n) * 3};
-  instance.evaluate(poses, 0, frames, Stage::refinement, out);
+  const std::vector<float> skin = pleat_test::evaluate_stage(instance, poses, frames, Stage::skinning);
+  const std::vector<float> full = pleat_test::evaluate_stage(instance, poses, frames, Stage::refinement);
   double moved = 0;
   for (size_t i = 0; i < full.size(); i += 3)
     moved += std::sqrt(std::pow(full[i] - skin[i], 2) + std::pow(full[i + 1] - skin[i + 1], 2) +

@@ -14,6 +14,7 @@
 #include "core/garment.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"
+#include "support/stage_outputs.h"
 
 namespace {
 
@@ -412,15 +413,9 @@ TEST(RuntimeGolden, ZeroScaledHeadsReduceToSkinning) {
   const auto garment = sheet();
   const Poses p = motion();
   Instance instance(model, garment, body, InstanceOptions{});
-  const int n = instance.vertex_count();
   const PoseSequence poses{p.rotations.data(), p.roots.data(), kFrames, kJoints, kFps};
-  std::vector<float> skin(size_t(kFrames) * n * 3), full(skin.size());
-  EvaluateOutputs out;
-  out.positions = {skin.data(), size_t(n) * 3};
-  instance.evaluate(poses, 0, kFrames, Stage::skinning, out);
-  out.positions = {full.data(), size_t(n) * 3};
-  instance.evaluate(poses, 0, kFrames, Stage::refinement, out);
-  EXPECT_EQ(skin, full);
+  EXPECT_EQ(pleat_test::evaluate_stage(instance, poses, kFrames, Stage::skinning),
+            pleat_test::evaluate_stage(instance, poses, kFrames, Stage::refinement));
 }
 
 }  // namespace
