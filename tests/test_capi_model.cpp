@@ -162,6 +162,7 @@ TEST(CapiModel, InitialisedModelDescribesItselfAndRoundTripsThroughAFile) {
   EXPECT_EQ(info.variant, static_cast<uint32_t>(PLEAT_VARIANT_FLEXIGAT));
   EXPECT_EQ(info.code_width, 128u);
   EXPECT_EQ(info.default_top_k, 4u);
+  EXPECT_EQ(info.format_version, 1u) << "uses nothing of format version 2";
   EXPECT_DOUBLE_EQ(info.frame_rate, 30.0);
   EXPECT_GT(info.parameter_count, 100000u);
   EXPECT_STREQ(pleat_model_joint_name(model.get(), 2), "arm");

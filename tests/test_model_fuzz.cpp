@@ -45,7 +45,7 @@ uint64_t env_or(const char* name, uint64_t fallback) {
 // A small but complete model: one parse takes microseconds. Every optional
 // part the writer knows (normalisations, training metrics) is present so the
 // mutations reach its reader too.
-std::vector<uint8_t> small_model_bytes() {
+std::vector<uint8_t> small_model_bytes(int32_t body_vertex_stride = 1) {
   ModelSkeleton skeleton;
   skeleton.joint_names = {"hips", "spine", "arm"};
   skeleton.parents = {-1, 0, 1};
@@ -60,6 +60,7 @@ std::vector<uint8_t> small_model_bytes() {
   o.blend_widths = {4, 3};
   o.refinement_widths = {4, 3};
   o.created = "2024-01-01T00:00:00Z";
+  o.body_vertex_stride = body_vertex_stride;
   std::shared_ptr<Model> m = initialize_model(skeleton, shape, o);
 
   const auto norm = [](Index width) {
@@ -410,6 +411,24 @@ TEST(ModelFuzz, NewerFormatVersionIsRefusedAsUnsupported) {
 
 // Only the writer's trailing alignment padding may go; any other cut is
 // refused.
+// A file is written with the lowest version that reads it correctly: a
+// version-1 reader would pool the body code over every vertex.
+TEST(ModelFuzz, BodyVertexStrideIsWrittenAsFormatVersionTwo) {
+  const std::vector<uint8_t> plain = small_model_bytes(1), strided = small_model_bytes(8);
+  EXPECT_EQ(fb::GetModel(plain.data())->format_version(), 1u);
+  EXPECT_EQ(fb::GetModel(strided.data())->format_version(), 2u);
+  EXPECT_EQ(deserialize_model(strided.data(), strided.size(), "strided")->body_vertex_stride, 8);
+  EXPECT_EQ(deserialize_model(plain.data(), plain.size(), "plain")->body_vertex_stride, 1);
+  expect_refused(with_format_version(strided, 1), PLEAT_ERROR_FORMAT,
+                 "body_vertex_stride 8 needs format_version 2 (the file says 1)");
+  for (int32_t bad : {0, -3, kMaxBodyVertexStride + 1}) {
+    std::vector<uint8_t> bytes = strided;
+    auto* table = flatbuffers::GetMutableRoot<flatbuffers::Table>(bytes.data());
+    ASSERT_TRUE(table->SetField<int32_t>(fb::Model::VT_BODY_VERTEX_STRIDE, bad, 1));
+    expect_refused(bytes, PLEAT_ERROR_FORMAT, "body_vertex_stride is " + std::to_string(bad));
+  }
+}
+
 TEST(ModelFuzz, EveryTruncationIsRefused) {
   const std::vector<uint8_t> good = small_model_bytes();
   size_t padding = 0;

@@ -12,6 +12,7 @@
 
 #include "body/body.h"
 #include "core/garment.h"
+#include "runtime/binding.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"
 #include "support/stage_outputs.h"
@@ -262,15 +263,17 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
   Mat rest_j(kJoints, 3);
   for (int j = 0; j < kJoints; ++j) rest_j.row(j) << kRestJoints[j][0], kRestJoints[j][1], kRestJoints[j][2];
 
-  // Body code.
-  Mat h(body.vertex_count(), 3);
-  for (int v = 0; v < body.vertex_count(); ++v) {
+  // Body code, over body vertices 0, k, 2k, ...
+  const int stride = m.body_vertex_stride, rows = (body.vertex_count() + stride - 1) / stride;
+  Mat h(rows, 3);
+  for (int r = 0; r < rows; ++r) {
+    const int v = r * stride;
     Eigen::RowVectorXd x(1 + kJoints);
     x[0] = 0.3;  // the body's height
     for (int j = 0; j < kJoints; ++j) x[1 + j] = (body.rest.vertices.row(v) - rest_j.row(j)).norm();
     const Eigen::RowVectorXd y =
         x * dense(m.body_encoder.layers[0].weight) + m.body_encoder.layers[0].bias.cast<double>();
-    for (int c = 0; c < 3; ++c) h(v, c) = std::tanh(y[c]);
+    for (int c = 0; c < 3; ++c) h(r, c) = std::tanh(y[c]);
   }
   Eigen::RowVectorXd pooled(6);
   pooled << h.colwise().mean(), h.colwise().maxCoeff();
@@ -365,8 +368,9 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
   return out;
 }
 
-void expect_matches(nn::AttentionVariant variant) {
+void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1) {
   const std::shared_ptr<Model> model = tiny_model(variant);
+  model->body_vertex_stride = body_vertex_stride;
   const Body body = chain_body();
   const auto garment = sheet();
   const Poses p = motion();
@@ -401,6 +405,28 @@ TEST(RuntimeGolden, GatModelMatchesIndependentReference) {
 }
 TEST(RuntimeGolden, LgatModelMatchesIndependentReference) {
   expect_matches(nn::AttentionVariant::lgat);
+}
+
+// The body code pools over vertices 0, 2, 4 of the 5-vertex body.
+TEST(RuntimeGolden, BodyVertexStrideMatchesIndependentReference) {
+  expect_matches(nn::AttentionVariant::flexigat, 2);
+}
+
+// The encoder's input rows are body vertices 0, 2, 4 with a stride of 2 (the
+// tiny model's output hardly depends on its body code, so the reference
+// comparison above alone could not tell strides apart).
+TEST(RuntimeGolden, BodyVertexStrideSelectsEveryKthVertex) {
+  const Body body = chain_body();
+  const auto garment = sheet();
+  std::shared_ptr<Model> all = tiny_model(nn::AttentionVariant::flexigat);
+  std::shared_ptr<Model> strided = tiny_model(nn::AttentionVariant::flexigat);
+  strided->body_vertex_stride = 2;
+  const nn::MatrixRM every = bind_inputs(*all, *garment, body)->body_input;
+  const nn::MatrixRM some = bind_inputs(*strided, *garment, body)->body_input;
+  ASSERT_EQ(every.rows(), 5);
+  ASSERT_EQ(some.rows(), 3);
+  for (int r = 0; r < 3; ++r) EXPECT_EQ(some.row(r), every.row(2 * r)) << "row " << r;
+  EXPECT_NE(every.row(1), every.row(0));
 }
 
 // Each stage adds to the one before: a model whose blend and refinement

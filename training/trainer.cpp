@@ -116,6 +116,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
       c.model.heads = m.value("heads", c.model.heads);
       c.model.gru_layers = m.value("gru_layers", c.model.gru_layers);
       c.model.body_widths = m.value("body_widths", c.model.body_widths);
+      c.model.body_vertex_stride = m.value("body_vertex_stride", c.model.body_vertex_stride);
       c.model.garment_widths = m.value("garment_widths", c.model.garment_widths);
       c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
       c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);

@@ -89,7 +89,7 @@ pleat_status pleat_model_get_info(const pleat_model* model, pleat_model_info* ou
     const runtime::Model& m = *model->model;
     pleat_model_info info{};
     info.struct_size = sizeof info;
-    info.format_version = runtime::kModelFormatVersion;
+    info.format_version = runtime::model_format_version(m);
     info.joint_count = static_cast<uint32_t>(m.joint_count());
     info.shape_count = static_cast<uint32_t>(m.shape_count());
     info.window_frames = static_cast<uint32_t>(m.window_frames);

@@ -80,19 +80,21 @@ std::unique_ptr<Binding> bind_inputs(const Model& m, const Garment& g, const Bod
   for (int32_t j = 0; j < joints; ++j)
     b->rest_joints.row(j) = b->rest_global[b->body_of_model[j]].translation().transpose();
 
-  // Body encoder input: per body vertex [β | distances to J(β)].
+  // Body encoder input: per body vertex 0, k, 2k, ... [β | distances to J(β)].
   const nn::RowVector beta = shape_vector(m, body);
-  const int32_t nb = body.vertex_count();
+  const int32_t stride = m.body_vertex_stride;
+  const int32_t nb = (body.vertex_count() + stride - 1) / stride;
   b->body_input.resize(nb, m.body_encoder.in_width());
-  for (int32_t v = 0; v < nb; ++v) {
+  for (int32_t row = 0; row < nb; ++row) {
+    const int32_t v = row * stride;
     Index col = 0;
     for (Feature f : m.body_features) {
       if (f == Feature::shape) {
-        b->body_input.row(v).segment(col, beta.size()) = beta;
+        b->body_input.row(row).segment(col, beta.size()) = beta;
         col += beta.size();
       } else {  // rest_joint_distances
         for (int32_t j = 0; j < joints; ++j)
-          b->body_input(v, col + j) =
+          b->body_input(row, col + j) =
               static_cast<float>((body.rest.vertices.row(v) - b->rest_joints.row(j)).norm());
         col += joints;
       }

@@ -21,7 +21,7 @@ struct Binding {
   Skeleton skeleton;                   // the body's, body order
   Transforms rest_global;              // body order
   Points3d rest_joints;                // J(β), model order
-  nn::MatrixRM body_input;             // body vertices x body-encoder input, normalised
+  nn::MatrixRM body_input;             // every k-th body vertex x body-encoder input, normalised
   nn::MatrixRM garment_input;          // garment vertices x garment-encoder input, normalised
   nn::MatrixRM prior;                  // N x S: skinning_prior * log(w + 1e-6); empty without a prior
   nn::AttentionGraph graph;            // mesh edges + self loops

@@ -4,7 +4,7 @@
 // trained with. Immutable once built; shared by every instance bound to it.
 //
 // Data flow per frame t (docs/runtime.md has the exact feature definitions):
-//   body code   b   = σ(body_pool([mean | max] over body vertices of body_encoder([β | Dis_i])))
+//   body code   b   = σ(body_pool([mean | max] over every k-th body vertex of body_encoder([β | Dis_i])))
 //   garment     G   = garment_encoder(rest features)                      (N x C)
 //   motion      q^t = motion_encoder(window of frame features)            (C)
 //   fusion      F^t = G ⊙ b ⊙ q^t                                          (N x C)
@@ -113,6 +113,10 @@ struct Model {
   nn::Mlp body_encoder;
   nn::Dense body_pool;  // 2 * body_encoder.out_width() -> code width
   nn::Activation body_pool_activation = nn::Activation::tanh();
+  // The encoder sees body vertices 0, k, 2k, ... only (k = this stride; 1 =
+  // all, the paper's form): the pooled code needs a uniform share of the
+  // body, not all of it, and training recomputes it every step.
+  int32_t body_vertex_stride = 1;
 
   GraphStack garment_encoder;  // -> code width
 

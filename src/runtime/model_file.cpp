@@ -409,14 +409,18 @@ std::vector<uint8_t> serialize_model(const Model& m) {
   auto training = write_training(b, m.training);
   auto generator = b.CreateString("pleat " PLEAT_VERSION_STRING);
 
-  auto root =
-      fb::CreateModel(b, kModelFormatVersion, generator, skeleton, shape, m.frame_rate, m.window_frames,
-                      static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k, body_features,
-                      body_normalization, body_encoder, body_pool, body_pool_activation, garment_encoder,
-                      motion_features, motion_normalization, motion_encoder, skinning, m.skinning_prior,
-                      blend, m.blend_scale, refinement, m.refinement_scale, bands, training);
+  auto root = fb::CreateModel(b, model_format_version(m), generator, skeleton, shape, m.frame_rate,
+                              m.window_frames, static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k,
+                              body_features, body_normalization, body_encoder, body_pool,
+                              body_pool_activation, garment_encoder, motion_features, motion_normalization,
+                              motion_encoder, skinning, m.skinning_prior, blend, m.blend_scale, refinement,
+                              m.refinement_scale, bands, training, m.body_vertex_stride);
   fb::FinishModelBuffer(b, root);
   return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
+}
+
+uint32_t model_format_version(const Model& model) {
+  return model.body_vertex_stride > 1 ? 2 : 1;
 }
 
 void save_model(const Model& model, const std::string& path) {
@@ -474,6 +478,10 @@ std::shared_ptr<Model> deserialize_model(const uint8_t* data, size_t size, const
   m->body_encoder = r.mlp(r.need(root.body_encoder(), "body_encoder"), "body_encoder");
   m->body_pool = r.dense(r.need(root.body_pool(), "body_pool"), "body_pool", "body_pool");
   m->body_pool_activation = r.activation(root.body_pool_activation(), "body_pool_activation");
+  m->body_vertex_stride = root.body_vertex_stride();
+  if (m->body_vertex_stride > 1 && root.format_version() < 2)
+    r.bad("body_vertex_stride " + std::to_string(m->body_vertex_stride) +
+          " needs format_version 2 (the file says " + std::to_string(root.format_version()) + ")");
   m->garment_encoder = r.graph_stack(root.garment_encoder(), "garment_encoder");
   m->motion_features = r.features(root.motion_features(), "motion_features");
   m->motion_normalization = r.normalization(root.motion_normalization(), "motion_normalization");

@@ -13,15 +13,21 @@
 
 namespace pleat::runtime {
 
-// Format version written by this build; files with a larger one are refused
-// with PLEAT_ERROR_UNSUPPORTED_VERSION.
-constexpr uint32_t kModelFormatVersion = 1;
+// The newest format version this build reads; files with a larger one are
+// refused with PLEAT_ERROR_UNSUPPORTED_VERSION. A file is written with the
+// lowest version that reads it correctly (model_format_version), so models
+// that use nothing new stay readable by older builds.
+//   1: the first format.
+//   2: body_vertex_stride > 1.
+constexpr uint32_t kModelFormatVersion = 2;
+uint32_t model_format_version(const Model& model);
 
 // Caps checked before anything is allocated from a file's counts.
 constexpr int32_t kMaxModelJoints = 1024;
 constexpr int32_t kMaxModelShapeEntries = 1024;
 constexpr int32_t kMaxStackLayers = 64;  // per MLP, graph stack or GRU
 constexpr int32_t kMaxStackFeatures = 16;
+constexpr int32_t kMaxBodyVertexStride = 4096;
 
 std::vector<uint8_t> serialize_model(const Model& model);
 // Atomic: the file appears complete or not at all. Throws PLEAT_ERROR_IO.

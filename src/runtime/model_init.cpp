@@ -5,6 +5,7 @@
 
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "runtime/model_file.h"
 
 namespace pleat::runtime {
 namespace {
@@ -151,6 +152,9 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   if (o.gru_layers < 1 || o.gru_layers > 64)
     bad_option("gru_layers is " + std::to_string(o.gru_layers) + ", expected 1..64");
   check_widths(o.body_widths, "body_widths", 0, 0);
+  if (o.body_vertex_stride < 1 || o.body_vertex_stride > kMaxBodyVertexStride)
+    bad_option("body_vertex_stride is " + std::to_string(o.body_vertex_stride) + ", expected 1.." +
+               std::to_string(kMaxBodyVertexStride));
   check_widths(o.garment_widths, "garment_widths", o.heads, o.code_width);
   check_widths(o.blend_widths, "blend_widths", o.heads, 3);
   check_widths(o.refinement_widths, "refinement_widths", o.heads, 3);
@@ -168,6 +172,7 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   m->blend_scale = o.blend_scale;
   m->refinement_scale = o.refinement_scale;
   m->skinning_prior = o.skinning_prior;
+  m->body_vertex_stride = o.body_vertex_stride;
   m->body_features = {Feature::shape, Feature::rest_joint_distances};
   m->motion_features = {Feature::joint_rotations_6d, Feature::root_velocity};
 

@@ -22,6 +22,7 @@ struct ModelInitOptions {
   int32_t default_top_k = 4;
   int32_t code_width = 128;                          // C: body code, garment code, GRU hidden width
   std::vector<int32_t> body_widths{128, 256, 128};   // body encoder MLP outputs
+  int32_t body_vertex_stride = 1;                    // the encoder sees every k-th body vertex
   std::vector<int32_t> garment_widths{64, 64, 128};  // last must equal code_width
   int32_t heads = 4;                                 // every graph layer
   int32_t gru_layers = 3;

@@ -98,6 +98,9 @@ void check_scalars(const Checker& c, const Model& m) {
     c.bad("motion_mode has unknown value " + std::to_string(static_cast<int32_t>(m.motion_mode)));
   if (m.default_top_k < 1) c.bad("default_top_k is " + std::to_string(m.default_top_k) + ", expected >= 1");
   c.finite(m.blend_scale, "blend_scale");
+  if (m.body_vertex_stride < 1 || m.body_vertex_stride > kMaxBodyVertexStride)
+    c.bad("body_vertex_stride is " + std::to_string(m.body_vertex_stride) + ", expected 1.." +
+          std::to_string(kMaxBodyVertexStride));
   if (!(std::isfinite(m.skinning_prior) && m.skinning_prior >= 0.0f))
     c.bad("skinning_prior is " + std::to_string(m.skinning_prior) + ", expected a finite value >= 0");
   c.finite(m.refinement_scale, "refinement_scale");
