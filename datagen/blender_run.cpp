@@ -34,34 +34,37 @@ void write_text(const std::string& path, const std::string& text) {
 nlohmann::json simulator_settings(const Config& config, const GarmentSpec& garment) {
   const ClothSettings& c = config.cloth;
   const CollisionSettings& k = config.collision;
-  return {{"name", "blender"},
-          {"rest_frames", config.rest_frames},
-          {"blend_frames", config.blend_frames},
-          {"pin_distance", garment.pin_distance},
-          {"pin_band", garment.pin_band},
-          {"cloth",
-           {{"quality", c.quality},
-            {"mass", c.mass},
-            {"air_damping", c.air_damping},
-            {"tension_stiffness", c.tension_stiffness},
-            {"compression_stiffness", c.compression_stiffness},
-            {"shear_stiffness", c.shear_stiffness},
-            {"bending_stiffness", c.bending_stiffness},
-            {"tension_damping", c.tension_damping},
-            {"compression_damping", c.compression_damping},
-            {"shear_damping", c.shear_damping},
-            {"bending_damping", c.bending_damping},
-            {"pin_stiffness", c.pin_stiffness}}},
-          {"collision",
-           {{"quality", k.quality},
-            {"distance", k.distance},
-            {"body_thickness", k.body_thickness},
-            {"body_thickness_inner", k.body_thickness_inner},
-            {"friction", k.friction},
-            {"damping", k.damping},
-            {"self_collision", k.self_collision},
-            {"self_distance", k.self_distance},
-            {"self_friction", k.self_friction}}}};
+  nlohmann::json s = {{"name", "blender"},
+                      {"rest_frames", config.rest_frames},
+                      {"blend_frames", config.blend_frames},
+                      {"pin_distance", garment.pin_distance},
+                      {"pin_band", garment.pin_band},
+                      {"cloth",
+                       {{"quality", c.quality},
+                        {"mass", c.mass},
+                        {"air_damping", c.air_damping},
+                        {"tension_stiffness", c.tension_stiffness},
+                        {"compression_stiffness", c.compression_stiffness},
+                        {"shear_stiffness", c.shear_stiffness},
+                        {"bending_stiffness", c.bending_stiffness},
+                        {"tension_damping", c.tension_damping},
+                        {"compression_damping", c.compression_damping},
+                        {"shear_damping", c.shear_damping},
+                        {"bending_damping", c.bending_damping},
+                        {"pin_stiffness", c.pin_stiffness}}},
+                      {"collision",
+                       {{"quality", k.quality},
+                        {"distance", k.distance},
+                        {"body_thickness", k.body_thickness},
+                        {"body_thickness_inner", k.body_thickness_inner},
+                        {"friction", k.friction},
+                        {"damping", k.damping},
+                        {"self_collision", k.self_collision},
+                        {"self_distance", k.self_distance},
+                        {"self_friction", k.self_friction}}}};
+  // Only when set, so data sets made before the option keep their hashes.
+  if (!config.collider.empty()) s["collider"] = std::filesystem::path(config.collider).filename().string();
+  return s;
 }
 
 BlenderResult run_blender(const Config& config, const GarmentSpec& garment, const SequenceInputs& in,
@@ -71,25 +74,25 @@ BlenderResult run_blender(const Config& config, const GarmentSpec& garment, cons
   const Body& body = *in.body;
   const auto frames = static_cast<size_t>(in.motion.frame_count);
   const auto n = static_cast<size_t>(in.garment_rest.vertex_count());
-  const Points3f body_rest = body.rest.vertices.cast<float>();
+  const bool proxy = !in.collider_frames.empty();
+  const TriMesh& collider = proxy ? in.collider_rest : body.rest;
+  const Points3f collider_rest = collider.vertices.cast<float>();
+  const auto nc = static_cast<size_t>(collider_rest.rows());
   const Points3f garment_rest = in.garment_rest.vertices.cast<float>();
-  write_obj(work_dir + "/body.obj", body_rest.data(), static_cast<size_t>(body_rest.rows()),
-            body.rest.triangles);
+  write_obj(work_dir + "/collider.obj", collider_rest.data(), nc, collider.triangles);
   write_obj(work_dir + "/garment.obj", garment_rest.data(), n, in.garment_rest.triangles);
-  write_cache(work_dir + "/body.pc2", CacheFormat::pc2, in.body_frames.data(), frames,
-              static_cast<size_t>(body_rest.rows()), 0, config.frame_rate, nullptr);
+  write_cache(work_dir + "/collider.pc2", CacheFormat::pc2,
+              proxy ? in.collider_frames.data() : in.body_frames.data(), frames, nc, 0, config.frame_rate,
+              nullptr);
   write_cache(work_dir + "/garment_skinned.pc2", CacheFormat::pc2, in.garment_skinned.data(), frames, n, 0,
               config.frame_rate, nullptr);
   nlohmann::json job = simulator_settings(config, garment);
   job["frame_rate"] = config.frame_rate;
   job["frame_count"] = frames;
   job["pinned"] = in.pinned;
-  job["files"] = {{"body_obj", "body.obj"},
-                  {"body_pc2", "body.pc2"},
-                  {"garment_obj", "garment.obj"},
-                  {"garment_skinned_pc2", "garment_skinned.pc2"},
-                  {"garment_sim_pc2", "garment_sim.pc2"},
-                  {"result", "result.json"}};
+  job["files"] = {{"collider_obj", "collider.obj"},       {"collider_pc2", "collider.pc2"},
+                  {"garment_obj", "garment.obj"},         {"garment_skinned_pc2", "garment_skinned.pc2"},
+                  {"garment_sim_pc2", "garment_sim.pc2"}, {"result", "result.json"}};
   write_text(work_dir + "/job.json", job.dump(1) + "\n");
   write_text(work_dir + "/simulate_cloth.py", kSimulateClothScript);
   fs::remove(work_dir + "/result.json");
@@ -133,7 +136,7 @@ BlenderResult run_blender(const Config& config, const GarmentSpec& garment, cons
     const nlohmann::json result = nlohmann::json::parse(result_file);
     r.blender_version = result.at("blender_version").get<std::string>();
     r.seconds = result.at("simulation_seconds").get<double>();
-    r.body_cache_error = result.at("body_cache_max_error").get<double>();
+    r.collider_cache_error = result.at("collider_cache_max_error").get<double>();
   } catch (const nlohmann::json::exception& e) {
     fail(PLEAT_ERROR_FORMAT, work_dir + "/result.json: " + e.what());
   }

@@ -1,6 +1,6 @@
 #pragma once
-// One simulation in Blender: writes the job folder (rest body and garment OBJ,
-// body and skinned garment PC2, job.json, the script), runs Blender headless
+// One simulation in Blender: writes the job folder (rest collider and garment
+// OBJ, collider and skinned garment PC2, job.json, the script), runs Blender headless
 // on it and reads the simulated garment back.
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -21,8 +21,8 @@ nlohmann::json simulator_settings(const Config& config, const GarmentSpec& garme
 struct BlenderResult {
   std::vector<float> garment_frames;  // every frame (lead-in included) x garment vertices x 3
   std::string blender_version;
-  double seconds = 0;           // Blender's time in the simulation loop
-  double body_cache_error = 0;  // evaluated body vs body.pc2, m (sanity of the frame mapping)
+  double seconds = 0;               // Blender's time in the simulation loop
+  double collider_cache_error = 0;  // evaluated collider vs collider.pc2, m (sanity of the frame mapping)
 };
 
 using FrameProgress = std::function<void(int64_t done, int64_t total)>;

@@ -184,6 +184,10 @@ Config parse_config(const std::string& text, const std::string& path) {
   c.body = resolve(assets, f.text("body", "", true));
   if (!fs::is_regular_file(fs::path(c.body) / "base.obj"))
     f.bad("names '" + c.body + "', which holds no MakeHuman base.obj", "body");
+  if (f.has("collider")) {
+    c.collider = resolve(assets, f.text("collider"));
+    require_file(f, c.collider, "collider");
+  }
   c.rig = f.text("rig", c.rig);
   if (c.rig != "cmu_mb" && c.rig != "default") f.bad("must be \"cmu_mb\" or \"default\"", "rig");
   c.frame_rate = f.number("frame_rate", c.frame_rate, 1, 1000);

@@ -224,10 +224,10 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
         SequenceData d = sequence_of(config, job, in, sim, hashes[i]);
         o.check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
                                    in.body->rest.triangles, d.meta.frame_count, config.check);
-        if (sim.body_cache_error > 1e-4) {
+        if (sim.collider_cache_error > 1e-4) {
           o.check.passed = false;
-          o.check.reason = "Blender's body strays " + std::to_string(sim.body_cache_error) +
-                           " m from body.pc2: the cache frames are mapped wrongly";
+          o.check.reason = "Blender's collider strays " + std::to_string(sim.collider_cache_error) +
+                           " m from collider.pc2: the cache frames are mapped wrongly";
         }
         if (o.check.passed) {
           record_check(o.check, &d.meta);

@@ -13,6 +13,31 @@
 
 namespace pleat::datagen {
 
+namespace {
+
+// A .mhclo / .proxy binding and its OBJ's faces (in the order of its "v" lines).
+std::pair<ClothesBinding, Triangles> load_clothes(const std::string& path) {
+  ClothesBinding binding = read_mhclo(path);
+  const std::string obj = (std::filesystem::path(path).parent_path() / binding.obj_file).string();
+  const TriMesh mesh = read_obj_file_order(obj);
+  if (mesh.vertex_count() != static_cast<int32_t>(binding.vertices.size()))
+    fail(PLEAT_ERROR_FORMAT, path + ": binds " + std::to_string(binding.vertices.size()) + " vertices, '" +
+                                 obj + "' has " + std::to_string(mesh.vertex_count()));
+  if (mesh.triangles.rows() == 0) fail(PLEAT_ERROR_FORMAT, obj + ": the mesh has no faces");
+  return {std::move(binding), mesh.triangles};
+}
+
+// `rest` skinned to the body with nearest-vertex weights, every frame of `motion`.
+std::vector<float> skinned_frames(const Body& body, const Points3d& rest, const Motion& motion) {
+  const SkinWeights weights = nearest_vertex_weights(body, rest);
+  std::vector<double> skinned(static_cast<size_t>(motion.frame_count * rest.rows() * 3));
+  SkinningWorkspace workspace;
+  skin_frames(rest, weights, motion, 0, motion.frame_count, &workspace, skinned.data(), skinned.size());
+  return {skinned.begin(), skinned.end()};
+}
+
+}  // namespace
+
 Assets load_assets(const Config& config) {
   Assets a;
   a.model = MakeHumanModel::load(config.body,
@@ -30,16 +55,11 @@ Assets load_assets(const Config& config) {
     a.shaped.push_back(a.model->shaped_vertices(beta));
   }
   for (const GarmentSpec& g : config.garments) {
-    ClothesBinding binding = read_mhclo(g.mhclo);
-    const std::string obj = (std::filesystem::path(g.mhclo).parent_path() / binding.obj_file).string();
-    const TriMesh mesh = read_obj_file_order(obj);
-    if (mesh.vertex_count() != static_cast<int32_t>(binding.vertices.size()))
-      fail(PLEAT_ERROR_FORMAT, g.mhclo + ": binds " + std::to_string(binding.vertices.size()) +
-                                   " vertices, '" + obj + "' has " + std::to_string(mesh.vertex_count()));
-    if (mesh.triangles.rows() == 0) fail(PLEAT_ERROR_FORMAT, obj + ": the garment has no faces");
+    auto [binding, triangles] = load_clothes(g.mhclo);
     a.bindings.push_back(std::move(binding));
-    a.garment_triangles.push_back(mesh.triangles);
+    a.garment_triangles.push_back(std::move(triangles));
   }
+  if (!config.collider.empty()) std::tie(a.collider, a.collider_triangles) = load_clothes(config.collider);
   for (const MotionSpec& m : config.motions) {
     Motion source = read_bvh(m.source).motion;
     if (m.skip_frames >= source.frame_count)
@@ -138,13 +158,12 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
 
   const Points3d posed = pose_body_frames(body, in.motion, 0, in.motion.frame_count);
   in.body_frames.assign(posed.data(), posed.data() + posed.size());
-  const SkinWeights weights = nearest_vertex_weights(body, in.garment_rest.vertices);
-  std::vector<double> skinned(
-      static_cast<size_t>(in.motion.frame_count * in.garment_rest.vertex_count() * 3));
-  SkinningWorkspace workspace;
-  skin_frames(in.garment_rest.vertices, weights, in.motion, 0, in.motion.frame_count, &workspace,
-              skinned.data(), skinned.size());
-  in.garment_skinned.assign(skinned.begin(), skinned.end());
+  in.garment_skinned = skinned_frames(body, in.garment_rest.vertices, in.motion);
+  if (!assets.collider.vertices.empty()) {
+    in.collider_rest.vertices = fit_clothes(assets.collider, assets.shaped[job.shape]);
+    in.collider_rest.triangles = assets.collider_triangles;
+    in.collider_frames = skinned_frames(body, in.collider_rest.vertices, in.motion);
+  }
   const GarmentSpec& g = config.garments[job.garment];
   in.pinned = pinned_vertices(body, in.garment_rest, g.pin_distance, g.pin_band);
   return in;

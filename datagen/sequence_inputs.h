@@ -23,8 +23,10 @@ struct Assets {
   std::vector<Points3d> shaped;              // per shape: all base.obj vertices (what .mhclo indexes)
   std::vector<ClothesBinding> bindings;      // per garment
   std::vector<Triangles> garment_triangles;  // per garment, indices of its OBJ's "v" lines
-  std::vector<Motion> motions;               // per clip, resampled to the frame rate (source skeleton)
-  std::vector<JointMap> maps;                // per clip (no entries: pair joints by equal names)
+  ClothesBinding collider;                   // config.collider's proxy (no vertices: the body collides)
+  Triangles collider_triangles;
+  std::vector<Motion> motions;  // per clip, resampled to the frame rate (source skeleton)
+  std::vector<JointMap> maps;   // per clip (no entries: pair joints by equal names)
 };
 
 // Throws the readers' errors (naming file and line) and
@@ -41,6 +43,10 @@ struct SequenceInputs {
   std::vector<float> body_frames;      // every frame x body vertices x 3
   std::vector<float> garment_skinned;  // every frame x garment vertices x 3 (nearest-vertex LBS)
   std::vector<int32_t> pinned;
+  // config.collider's proxy, fitted and skinned like the garment; empty when
+  // the body itself collides.
+  TriMesh collider_rest;
+  std::vector<float> collider_frames;  // every frame x collider vertices x 3
 };
 
 SequenceInputs prepare_sequence(const Config& config, const Assets& assets, const Job& job);

@@ -6,12 +6,13 @@
 # gravity points down -Y instead of converting axes, so no vertex is ever
 # transformed on the way in or out.
 #
-# Inputs: the rest body and garment as OBJ ("v" and "f" lines, read here so the
-# vertex order is exactly the file's), the posed body per frame as PC2 (a
-# MESH_CACHE modifier, then COLLISION), and the garment skinned to the body as
-# PC2 (a MESH_CACHE modifier before CLOTH, so pinned vertices follow the body).
+# Inputs: the rest collider (the body, or a low-poly proxy of it) and garment as
+# OBJ ("v" and "f" lines, read here so the vertex order is exactly the file's),
+# the posed collider per frame as PC2 (a MESH_CACHE modifier, then COLLISION),
+# and the garment skinned to the body as PC2 (a MESH_CACHE modifier before
+# CLOTH, so pinned vertices follow the body).
 # Outputs: the simulated garment as PC2 and result.json (Blender version,
-# timing, how far the evaluated body strayed from body.pc2).
+# timing, how far the evaluated collider strayed from collider.pc2).
 # Progress goes to stdout as "PLEAT_FRAME <done> <total>" lines.
 import array
 import json
@@ -114,14 +115,14 @@ def main():
     frames = job["frame_count"]
     scene.frame_start, scene.frame_end = 1, frames
 
-    body_vertices, body_faces = read_obj(path("body_obj"))
-    body = make_object("body", body_vertices, body_faces)
-    add_mesh_cache(body, path("body_pc2"))
-    body.modifiers.new("pleat_collision", "COLLISION")
-    body.collision.thickness_outer = collision["body_thickness"]
-    body.collision.thickness_inner = collision["body_thickness_inner"]
-    body.collision.cloth_friction = collision["friction"]
-    body.collision.damping = collision["damping"]
+    collider_vertices, collider_faces = read_obj(path("collider_obj"))
+    collider = make_object("collider", collider_vertices, collider_faces)
+    add_mesh_cache(collider, path("collider_pc2"))
+    collider.modifiers.new("pleat_collision", "COLLISION")
+    collider.collision.thickness_outer = collision["body_thickness"]
+    collider.collision.thickness_inner = collision["body_thickness_inner"]
+    collider.collision.cloth_friction = collision["friction"]
+    collider.collision.damping = collision["damping"]
 
     garment_vertices, garment_faces = read_obj(path("garment_obj"))
     garment = make_object("garment", garment_vertices, garment_faces)
@@ -155,28 +156,29 @@ def main():
     cloth.point_cache.frame_start = 1
     cloth.point_cache.frame_end = frames
 
-    body_points, body_samples, body_cache = read_pc2(path("body_pc2"))
-    if body_points != len(body_vertices) or body_samples != frames:
-        raise RuntimeError("body.pc2 has %d points x %d samples, expected %d x %d"
-                           % (body_points, body_samples, len(body_vertices), frames))
+    collider_points, collider_samples, collider_cache = read_pc2(path("collider_pc2"))
+    if collider_points != len(collider_vertices) or collider_samples != frames:
+        raise RuntimeError("collider.pc2 has %d points x %d samples, expected %d x %d"
+                           % (collider_points, collider_samples, len(collider_vertices), frames))
     n = len(garment_vertices)
     depsgraph = bpy.context.evaluated_depsgraph_get()
     start = time.time()
     simulated = []
-    body_error = 0.0
+    collider_error = 0.0
     for f in range(frames):
         scene.frame_set(f + 1)
         simulated.append(evaluated_positions(garment, depsgraph, n))
-        if f % 10 == 0 or f == frames - 1:  # the body the cloth saw is body.pc2's sample f
-            posed = evaluated_positions(body, depsgraph, body_points)
-            offset = f * body_points * 3
-            body_error = max(body_error, max(abs(posed[i] - body_cache[offset + i]) for i in range(0, len(posed), 7)))
+        if f % 10 == 0 or f == frames - 1:  # the collider the cloth saw is collider.pc2's sample f
+            posed = evaluated_positions(collider, depsgraph, collider_points)
+            offset = f * collider_points * 3
+            collider_error = max(collider_error, max(abs(posed[i] - collider_cache[offset + i])
+                                                     for i in range(0, len(posed), 7)))
         print("PLEAT_FRAME %d %d" % (f + 1, frames), flush=True)
     seconds = time.time() - start
 
     write_pc2(path("garment_sim_pc2"), n, simulated, job["frame_rate"])
     result = {"blender_version": bpy.app.version_string, "simulation_seconds": seconds,
-              "body_cache_max_error": body_error}
+              "collider_cache_max_error": collider_error}
     with open(path("result") + ".partial", "w") as f:
         json.dump(result, f)
     os.replace(path("result") + ".partial", path("result"))

@@ -7,12 +7,14 @@
 #include <fstream>
 #include <set>
 
+#include "blender_run.h"
 #include "body/makehuman.h"
 #include "config.h"
 #include "core/topology.h"
 #include "garment_check.h"
 #include "io/obj_reader.h"
 #include "io/sequence.h"
+#include "metrics/nearest_points.h"
 #include "plan.h"
 #include "sequence_inputs.h"
 #include "support/expect_error.h"
@@ -110,6 +112,18 @@ TEST(DatagenConfig, ErrorsNameTheField) {
   text.replace(text.find("\"name\": \"f\""), 11, "\"name\": \"f/x\"");
   expect_error([&] { parse_config(text, "c.json"); }, I, "'shapes[0].name' 'f/x' may hold only");
   expect_error([] { read_config("/nonexistent/c.json"); }, PLEAT_ERROR_IO, "/nonexistent/c.json");
+}
+
+TEST(DatagenConfig, ColliderIsAnAssetFileAndPartOfTheJobHashOnlyWhenSet) {
+  const std::string a = pleat_test::asset_dir();
+  const Config body = parsed();
+  EXPECT_TRUE(body.collider.empty()) << "the body itself collides by default";
+  EXPECT_FALSE(simulator_settings(body, body.garments[0]).contains("collider"))
+      << "data sets made before the option keep their hashes";
+  const Config proxy = parsed(", \"collider\": \"" + a + "/body/proxies/female1605/female1605.proxy\"");
+  EXPECT_EQ(simulator_settings(proxy, proxy.garments[0]).at("collider"), "female1605.proxy");
+  expect_error([] { parsed(", \"collider\": \"/nonexistent.proxy\""); }, PLEAT_ERROR_FORMAT,
+               "'collider' names '/nonexistent.proxy', which is not a file");
 }
 
 TEST(DatagenConfig, DefaultOutputIsTheCacheFolder) {
@@ -232,6 +246,45 @@ TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
   EXPECT_NEAR(m.frame(3)[1].angularDistance(Eigen::Quaterniond::Identity()), 0.15625 * M_PI / 2, 1e-12);
   EXPECT_NEAR(m.frame(6)[1].angularDistance(q), 0.0, 1e-12) << "then the clip, unchanged";
   EXPECT_DOUBLE_EQ(m.root_translation(7, 0), 0.1);
+}
+
+// The MakeHuman low-poly proxy as the collider: fitted to the shape like a
+// garment and skinned with it, it stays on the posed body's surface.
+TEST(DatagenInputs, ProxyColliderIsFittedToTheShapeAndFollowsTheBody) {
+  const std::string a = pleat_test::asset_dir();
+  Config c = parsed(", \"collider\": \"" + a + "/body/proxies/female1605/female1605.proxy\"");
+  c.segment_frames = 20;
+  const Assets assets = load_assets(c);
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  const std::vector<Job> jobs = plan_jobs(c, frames);
+  ASSERT_FALSE(jobs.empty());
+  const Job& job = jobs.back();
+  const SequenceInputs in = prepare_sequence(c, assets, job);
+  const int64_t nc = in.collider_rest.vertex_count(), nb = in.body->vertex_count();
+  ASSERT_EQ(nc, 1605);
+  ASSERT_EQ(in.collider_frames.size(), size_t(in.motion.frame_count * nc * 3));
+  for (int64_t f : {int64_t(0), in.motion.frame_count - 1}) {
+    const Points3d body = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                              in.body_frames.data() + f * nb * 3, nb, 3)
+                              .cast<double>();
+    const Points3d collider = Eigen::Map<const Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>>(
+                                  in.collider_frames.data() + f * nc * 3, nc, 3)
+                                  .cast<double>();
+    const std::vector<int32_t> nearest = nearest_points(body, collider);
+    double mean = 0, largest = 0;
+    for (int64_t v = 0; v < nc; ++v) {
+      const double d = (collider.row(v) - body.row(nearest[size_t(v)])).norm();
+      mean += d / double(nc);
+      largest = std::max(largest, d);
+    }
+    EXPECT_LT(mean, 0.01) << "frame " << f;
+    EXPECT_LT(largest, 0.04) << "frame " << f;
+  }
+  Config plain = c;
+  plain.collider.clear();
+  EXPECT_TRUE(prepare_sequence(plain, load_assets(plain), job).collider_frames.empty())
+      << "without a proxy the body collides";
 }
 
 // Three pieces: a strip whose top touches the body (pinned where it touches),

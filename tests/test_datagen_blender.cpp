@@ -155,6 +155,45 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
   EXPECT_FALSE(sequence_complete(seq)) << "a rejected simulation leaves no complete folder";
 }
 
+// The low-poly proxy as the collider: the skirt is simulated against it, the
+// sequence still records (and is checked against) the real body.
+TEST(DatagenBlender, ProxyColliderKeepsTheSkirtOnTheBody) {
+  const std::string dir = pleat_test::temp_dir("datagen_proxy");
+  const std::string a = pleat_test::asset_dir();
+  const std::string text =
+      "{\"name\": \"t\", \"body\": \"" + a + "/body\", \"collider\": \"" + a +
+      "/body/proxies/female1605/female1605.proxy\", \"output\": \"" + dir +
+      "/set\",\n \"segment_frames\": 12, \"segments_per_clip\": 1, \"mirror\": false, \"rest_frames\": 3,"
+      " \"blend_frames\": 6, \"sequences\": {\"train\": 1},\n"
+      " \"garments\": [{\"name\": \"skirt\", \"mhclo\": \"" +
+      a +
+      "/garments/helpers_mhclo/skirthelper.mhclo\"}],\n"
+      " \"shapes\": [{\"name\": \"plain\"}],\n"
+      " \"motions\": [{\"source\": \"" +
+      a + "/motions/cmu_daz/02_02.bvh\", \"map\": \"" + pleat_test::source_dir() +
+      "/data/retarget/cmu_daz.txt\"}]}";
+  const Config config = parse_config(text, dir + "/config.json");
+  GenerateOptions options;
+  options.progress = false;
+  const GenerateReport r = generate(config, options);
+  ASSERT_EQ(r.sequences.size(), 1u);
+  ASSERT_EQ(r.sequences[0].status, "done") << r.sequences[0].message;
+  const SequenceData d = read_sequence(dir + "/set/" + r.sequences[0].name);
+  const nlohmann::json sim = nlohmann::json::parse(d.meta.simulator_json);
+  EXPECT_EQ(sim["collider"], "female1605.proxy");
+  EXPECT_LT(sim["check"]["max_distance"].get<double>(), 0.3);
+  EXPECT_LT(sim["check"]["max_penetrating_fraction"].get<double>(), 0.01);
+
+  const Assets assets = load_assets(config);
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  const SequenceInputs in = prepare_sequence(config, assets, plan_jobs(config, frames)[0]);
+  const int64_t nb = in.body->vertex_count();
+  EXPECT_TRUE(
+      std::equal(d.body_frames.begin(), d.body_frames.end(), in.body_frames.begin() + in.lead_in * nb * 3))
+      << "body.pc2 is the real posed body, not the proxy";
+}
+
 TEST(DatagenBlender, CliForwardsToTheTool) {
   std::string out;
   const std::string cli = std::getenv("PLEAT_CLI");
