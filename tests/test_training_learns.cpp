@@ -14,6 +14,7 @@
 
 #include "evaluation.h"
 #include "runtime/model_file.h"
+#include "support/expect_error.h"
 #include "support/synthetic_sequence.h"
 #include "support/test_support.h"
 #include "trainer.h"
@@ -104,6 +105,11 @@ TEST(TrainingLearns, ResumedRunContinuesExactly) {
   const auto a = straight.network()->parameters(), b = second.network()->parameters();
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_TRUE(torch::equal(a[i], b[i])) << "parameter " << i;
+
+  TrainerConfig strided = config(data, root + "/resumed", 4);
+  strided.model.body_vertex_stride = 2;
+  pleat_test::expect_error([&] { Trainer third(strided); }, PLEAT_ERROR_FORMAT,
+                           "was trained with body_vertex_stride 1, the config asks for 2");
 }
 
 TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {

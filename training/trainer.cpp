@@ -315,6 +315,7 @@ void Trainer::save_checkpoint() const {
   rng << rng_;
   const Json meta = {{"epoch", epoch_},
                      {"parameters", network_->parameters().size()},
+                     {"body_vertex_stride", config_.model.body_vertex_stride},
                      {"schedule", schedule_.save()},
                      {"rng", rng.str()}};
   {
@@ -337,6 +338,12 @@ bool Trainer::load_checkpoint() {
   std::vector<torch::Tensor> parameters = network_->parameters();
   if (meta.at("parameters").get<size_t>() != parameters.size() || tensors.size() < parameters.size())
     fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was made for another architecture");
+  // Same tensors, another body code: the parameter count cannot tell.
+  const int32_t stride = meta.value("body_vertex_stride", 1);
+  if (stride != config_.model.body_vertex_stride)
+    fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was trained with body_vertex_stride " +
+                                 std::to_string(stride) + ", the config asks for " +
+                                 std::to_string(config_.model.body_vertex_stride));
   {
     torch::NoGradGuard no_grad;
     for (size_t i = 0; i < parameters.size(); ++i) parameters[i].copy_(tensors[i]);
