@@ -98,6 +98,16 @@ bool held_out_garment(const std::string& dir) {
   return j.is_object() && j.contains("simulator") && j["simulator"].value("held_out_garment", false);
 }
 
+// A model's row label: its file name without extension, or "folder/name" when
+// another model given has the same file name (each run writes model.pleat).
+std::string model_label(const std::string& path, const std::vector<std::string>& all) {
+  const std::filesystem::path p(path);
+  int same_stem = 0;
+  for (const std::string& other : all) same_stem += std::filesystem::path(other).stem() == p.stem();
+  if (same_stem < 2) return p.stem().string();
+  return (p.parent_path().filename() / p.stem()).string();
+}
+
 std::string table_row(const std::string& name, const pleat::MetricsResult& m) {
   char row[512];
   std::snprintf(row, sizeof row, "| %s | %.3f | %.2f | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
@@ -128,7 +138,7 @@ int evaluate(int argc, char** argv) {
   for (const std::string& d : c.test) (held_out_garment(d) ? held_out : seen).push_back(d);
   std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>> loaded;
   for (const std::string& m : models)
-    loaded.emplace_back(std::filesystem::path(m).stem().string(), pleat::runtime::load_model_file(m));
+    loaded.emplace_back(model_label(m, models), pleat::runtime::load_model_file(m));
   std::string report;
   const auto section = [&](const std::string& title, const std::vector<std::string>& dirs) {
     if (dirs.empty()) return;
