@@ -8,6 +8,7 @@
 #include "core/garment.h"
 #include "core/geodesic.h"
 #include "losses.h"
+#include "metrics/curvature.h"
 #include "spectral/band_split.h"
 #include "spectral/bands.h"
 
@@ -121,13 +122,23 @@ TEST(TrainingLosses, EdgeAndNormalLosses) {
   const Garment g = sheet(4, 0.1);
   const GarmentGeometry geometry(g);
   const torch::Tensor truth = positions(g);
-  // Scaling by 1.1 stretches every edge by 10 %.
-  const double mean_length = (truth[0].index_select(0, geometry.edges.select(1, 0)) -
-                              truth[0].index_select(0, geometry.edges.select(1, 1)))
-                                 .norm(2, -1)
-                                 .mean()
-                                 .item<double>();
-  EXPECT_NEAR(edge_loss(geometry, truth * 1.1, truth).item<double>(), 0.1 * mean_length, 1e-9);
+  // Scaling by 1.1 stretches every edge by 10 %, whatever its length; so
+  // does scaling by 0.9 the other way.
+  EXPECT_NEAR(edge_loss(geometry, truth * 1.1, truth).item<double>(), 0.1, 1e-6);
+  EXPECT_NEAR(edge_loss(geometry, truth * 0.9, truth).item<double>(), 0.1, 1e-6);
+  // Stretching only along x: horizontal edges by 20 %, vertical ones not at
+  // all, diagonals by the hand-computed sqrt(1.2^2 + 1) / sqrt(2) - 1.
+  const torch::Tensor stretched = truth * torch::tensor({1.2, 1.0, 1.0}, truth.options());
+  const torch::Tensor d = (truth[0].index_select(0, geometry.edges.select(1, 0)) -
+                           truth[0].index_select(0, geometry.edges.select(1, 1)))
+                              .abs();
+  const torch::Tensor horizontal = (d.select(1, 0) > 1e-9) & (d.select(1, 1) < 1e-9),
+                      vertical = (d.select(1, 0) < 1e-9) & (d.select(1, 1) > 1e-9);
+  const double edges = double(geometry.edges.size(0)), h = horizontal.sum().item<double>(),
+               v = vertical.sum().item<double>();
+  const double expected =
+      (0.2 * h + (std::sqrt(1.44 + 1.0) / std::sqrt(2.0) - 1.0) * (edges - h - v)) / edges;
+  EXPECT_NEAR(edge_loss(geometry, stretched, truth).item<double>(), expected, 1e-6);
   // A quarter turn about x: every face normal turns by 90 degrees.
   const torch::Tensor turned = torch::stack({truth.select(2, 0), -truth.select(2, 2), truth.select(2, 1)}, 2);
   EXPECT_NEAR(normal_loss(geometry, turned, truth).item<double>(), 1.0, 1e-9);
@@ -135,6 +146,47 @@ TEST(TrainingLosses, EdgeAndNormalLosses) {
   const torch::Tensor x = wobble(truth, 0.03, 2);
   expect_gradient([&](const torch::Tensor& p) { return edge_loss(geometry, p, truth); }, x, "edge loss");
   expect_gradient([&](const torch::Tensor& p) { return normal_loss(geometry, p, truth); }, x, "normal loss");
+}
+
+TEST(TrainingLosses, CurvatureLossComparesAngleSumsAtInteriorVertices) {
+  // 3 x 3 sheet: only the centre has a closed fan. Lifting it by one
+  // spacing, its six corners are two of 60 degrees (between axis
+  // neighbours) and four of acos(sqrt(2/3)) (axis to diagonal neighbour),
+  // against 2 pi flat.
+  const double s = 0.1;
+  const Garment small = sheet(3, s);
+  const GarmentGeometry g3(small);
+  ASSERT_EQ(g3.interior.size(0), 1);
+  EXPECT_EQ(g3.interior[0].item<int64_t>(), 4);
+  const torch::Tensor flat = positions(small);
+  torch::Tensor lifted = flat.clone();
+  lifted[0][4][2] = s;
+  const double defect = 4 * M_PI / 3 - 4 * std::acos(std::sqrt(2.0 / 3.0));
+  EXPECT_NEAR(curvature_loss(g3, lifted, flat).item<double>(), defect, 1e-9);
+  EXPECT_NEAR(curvature_loss(g3, flat, lifted).item<double>(), defect, 1e-9);
+
+  // A larger wobbled sheet against the metric's own angle sums (Eigen,
+  // another implementation), and blind to rotation and uniform scale.
+  const Garment g = sheet(5, s);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor truth = wobble(positions(g), 0.03, 3), x = wobble(positions(g), 0.03, 4);
+  const auto points = [](const torch::Tensor& p) {
+    const torch::Tensor c = p[0].contiguous();
+    return Points3d(Eigen::Map<const Points3d>(c.data_ptr<double>(), c.size(0), 3));
+  };
+  const Eigen::VectorXd sx = angle_sums(points(x), g.rest.triangles),
+                        st = angle_sums(points(truth), g.rest.triangles);
+  const std::vector<uint8_t> interior = interior_vertex_mask(g.rest.triangles, g.rest.vertex_count());
+  double sum = 0;
+  int count = 0;
+  for (int v = 0; v < g.rest.vertex_count(); ++v)
+    if (interior[v]) sum += std::abs(sx[v] - st[v]), ++count;
+  EXPECT_EQ(count, 9);
+  EXPECT_NEAR(curvature_loss(geometry, x, truth).item<double>(), sum / count, 1e-9);
+  const torch::Tensor turned = torch::stack({truth.select(2, 0), -truth.select(2, 2), truth.select(2, 1)}, 2);
+  EXPECT_NEAR(curvature_loss(geometry, 1.7 * turned + 0.3, truth).item<double>(), 0.0, 1e-9);
+  expect_gradient([&](const torch::Tensor& p) { return curvature_loss(geometry, p, truth); }, x,
+                  "curvature loss");
 }
 
 TEST(TrainingLosses, CollisionPenalisesVerticesBelowTheMarginAlongTheBodyNormal) {

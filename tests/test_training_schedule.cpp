@@ -13,7 +13,7 @@ using namespace pleat::training;
 namespace {
 
 const char* kThreePhases = R"({"phases": [
-  {"name": "a", "weights": {"vertex": 100, "edge": 10}, "advance": {"e_verts_below_cm": 5}},
+  {"name": "a", "weights": {"vertex": 100, "edge": 10, "curvature": 4}, "advance": {"e_verts_below_cm": 5}},
   {"name": "b", "weights": {"normal": 50}, "advance": {"plateau": {"epochs": 2, "improvement": 0.1}}},
   {"name": "c", "scale_supervised": 0.1, "freeze_encoders": true, "weights": {"collision": 2},
    "advance": {"loss_below": 0.5, "epochs": 3}},
@@ -54,6 +54,7 @@ TEST(TrainingSchedule, AdvancesOnEachConditionAndScalesTheSupervisedWeights) {
   EXPECT_TRUE(s.encoders_frozen());
   EXPECT_DOUBLE_EQ(s.weights().at("vertex"), 10);
   EXPECT_DOUBLE_EQ(s.weights().at("edge"), 1);
+  EXPECT_DOUBLE_EQ(s.weights().at("curvature"), 0.4);
   EXPECT_DOUBLE_EQ(s.weights().at("normal"), 5);
   EXPECT_DOUBLE_EQ(s.weights().at("collision"), 2);
 
@@ -103,7 +104,7 @@ TEST(TrainingSchedule, RefusesBadFilesNamingFileAndPhase) {
   expect_refused(R"({"phases": [{}, {"advance": {"soon": true}}]})", "phase 1: unknown advance condition");
 }
 
-TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvances) {
+TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesAndACurvatureTerm) {
   const Schedule paper = read_schedule(schedule_file("paper.json"));
   const Schedule demo = read_schedule(schedule_file("demo.json"));
   ASSERT_EQ(paper.phases.size(), 5u);
@@ -111,7 +112,11 @@ TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvances) {
   for (size_t i = 0; i < paper.phases.size(); ++i) {
     const Phase &p = paper.phases[i], &d = demo.phases[i];
     EXPECT_EQ(d.name, p.name);
-    EXPECT_EQ(d.weights, p.weights) << p.name;
+    // The paper's weights, plus pleat's curvature term from the first phase
+    // on (decision 0005).
+    LossWeights expected = p.weights;
+    if (i == 0) expected["curvature"] = 5;
+    EXPECT_EQ(d.weights, expected) << p.name;
     EXPECT_EQ(d.scale_supervised, p.scale_supervised) << p.name;
     EXPECT_EQ(d.freeze_encoders, p.freeze_encoders) << p.name;
     EXPECT_EQ(d.e_verts_below_cm, p.e_verts_below_cm) << p.name;

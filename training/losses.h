@@ -26,6 +26,7 @@ struct GarmentGeometry {
   torch::Tensor hinges;        // H x 4 (int64): edge (a, b) and the opposite corners (c, d) of its two faces
   torch::Tensor hinge_rest;    // H: rest dihedral angle
   torch::Tensor hinge_weight;  // H: 3 |e|² / (A1 + A2) (discrete shells)
+  torch::Tensor interior;      // I (int64): vertices with a closed fan, where E_curv is measured
   Csr geodesic;                // rest geodesic neighbourhoods (prepared garment; empty otherwise)
 };
 
@@ -52,8 +53,16 @@ VertexLoss frequency_vertex_loss(const BandProjector& bands, const torch::Tensor
 // The same without frequency division: 1/N Σ_i ||x_i - x_i^GT||₂.
 torch::Tensor vertex_loss(const torch::Tensor& x, const torch::Tensor& truth);
 
-// Mean over edges of |l_e - l_e^GT| (metres).
+// Mean over edges of |l_e - l_e^GT| / l_e^GT: E_edge's definition as a
+// fraction (edges of zero true length skipped), so k_e weighs a relative
+// stretch against the vertex loss in centimetres (decision 0005).
 torch::Tensor edge_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
+
+// Mean over interior vertices of |Σθ - Σθ^GT|, the corner angles summed
+// at each vertex (radians): the angle defect that E_curv divides by the
+// vertex's area, left undivided so that small faces do not dominate
+// (decision 0005).
+torch::Tensor curvature_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
 
 // Mean over faces of 1 - cos(n_f, n_f^GT).
 torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);

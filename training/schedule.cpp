@@ -20,9 +20,9 @@ using Json = nlohmann::json;
 }  // namespace
 
 const std::vector<std::string>& loss_names() {
-  static const std::vector<std::string> names = {"vertex",  "k_mid",     "k_high",         "edge",
-                                                 "normal",  "collision", "self_collision", "gravity",
-                                                 "stretch", "shear",     "bending"};
+  static const std::vector<std::string> names = {"vertex",    "k_mid",   "k_high",    "edge",
+                                                 "curvature", "normal",  "collision", "self_collision",
+                                                 "gravity",   "stretch", "shear",     "bending"};
   return names;
 }
 
@@ -94,7 +94,7 @@ ScheduleState::ScheduleState(Schedule schedule) : schedule_(std::move(schedule))
 void ScheduleState::enter(size_t index) {
   index_ = index;
   const Phase& p = schedule_.phases[index];
-  for (const char* supervised : {"vertex", "edge", "normal"})
+  for (const char* supervised : {"vertex", "edge", "curvature", "normal"})
     if (weights_.count(supervised)) weights_[supervised] *= p.scale_supervised;
   for (const auto& [name, w] : p.weights) weights_[name] = w;
   frozen_ = frozen_ || p.freeze_encoders;

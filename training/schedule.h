@@ -17,7 +17,7 @@ const std::vector<std::string>& loss_names();
 struct Phase {
   std::string name;
   LossWeights weights;            // set (added or replaced) on entering the phase
-  double scale_supervised = 1.0;  // multiplies vertex, edge and normal on entering
+  double scale_supervised = 1.0;  // multiplies vertex, edge, curvature and normal on entering
   bool freeze_encoders = false;   // body, garment and motion encoders stop learning
   // Advance when any condition that is set holds at the end of an epoch.
   double e_verts_below_cm = 0.0;     // validation (or training) E_verts

@@ -181,6 +181,7 @@ torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<i
                            ? frequency_vertex_loss(*bands, x, truth, weight("k_mid"), weight("k_high")).total
                            : plain);
   if (weight("edge") > 0) loss = loss + weight("edge") * edge_loss(*geometry, x, truth);
+  if (weight("curvature") > 0) loss = loss + weight("curvature") * curvature_loss(*geometry, x, truth);
   if (weight("normal") > 0) loss = loss + weight("normal") * normal_loss(*geometry, x, truth);
   if (weight("collision") > 0)
     loss = loss + weight("collision") * collision_loss(x, s.body_positions.index_select(0, at),
