@@ -29,7 +29,7 @@ TrainerConfig config(const std::string& data, const std::string& output, int64_t
   c.train = {data};
   c.validation = {data};
   c.schedule = parse_schedule(R"({"phases": [{"name": "supervised",
-      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15}}]})",
+      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15, "curvature": 5}}]})",
                               "test");
   c.output = output;
   c.epochs = epochs;
