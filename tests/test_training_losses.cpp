@@ -7,6 +7,7 @@
 
 #include "core/garment.h"
 #include "core/geodesic.h"
+#include "core/geometry.h"
 #include "losses.h"
 #include "metrics/curvature.h"
 #include "spectral/band_split.h"
@@ -187,6 +188,55 @@ TEST(TrainingLosses, CurvatureLossComparesAngleSumsAtInteriorVertices) {
   EXPECT_NEAR(curvature_loss(geometry, 1.7 * turned + 0.3, truth).item<double>(), 0.0, 1e-9);
   expect_gradient([&](const torch::Tensor& p) { return curvature_loss(geometry, p, truth); }, x,
                   "curvature loss");
+
+  // Columns 0.1, 0.02, 0.02 and 0.16 apart: the interior columns' rest
+  // areas go as 0.12 : 0.04 : 0.18, and each |ΔΣθ| counts in proportion to
+  // 1 / its area (the metric library's vertex areas), the weights averaging 1.
+  Points3d v = g.rest.vertices;
+  const double column_x[5] = {0.0, 0.1, 0.12, 0.14, 0.30};
+  for (int i = 0; i < v.rows(); ++i) v(i, 0) = column_x[static_cast<int>(std::lround(v(i, 0) / s))];
+  GarmentBuildOptions o;
+  o.weld_tolerance = -1.0;
+  const Garment squeezed = build_garment(v, g.rest.triangles, o, "squeezed");
+  const GarmentGeometry uneven(squeezed);
+  const Eigen::VectorXd area = vertex_areas(v, squeezed.rest.triangles);
+  double inverse_sum = 0, weighted = 0;
+  for (int i = 0; i < v.rows(); ++i)
+    if (interior[i]) inverse_sum += 1 / area[i], weighted += std::abs(sx[i] - st[i]) / area[i];
+  EXPECT_NEAR(curvature_loss(uneven, x, truth).item<double>(), weighted / inverse_sum, 1e-9);
+  EXPECT_NEAR(uneven.curvature_weight.max().item<double>() / uneven.curvature_weight.min().item<double>(),
+              0.18 / 0.04, 1e-4);
+  EXPECT_NEAR(uneven.curvature_weight.mean().item<double>(), 1.0, 1e-6);
+}
+
+TEST(TrainingLosses, SkinningSmoothnessPenalisesJumpsOfTheCorrectionToThePrior) {
+  // 3 x 3 sheet, two joints; the prior moves weight from joint 0 to joint 1
+  // across the columns: p = (1 - c/2, c/2) in column c.
+  const Garment g = sheet(3, 0.1);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor column = (positions(g)[0].select(1, 0) / 0.1).round();  // N
+  const torch::Tensor prior = torch::stack({1 - column / 2, column / 2}, 1);  // N x 2
+  ASSERT_EQ(geometry.edges.size(0), 16) << "6 horizontal, 6 vertical, 4 diagonal edges";
+
+  // A correction that is the same everywhere costs nothing, whatever its size.
+  const torch::Tensor shifted = (prior + torch::tensor({0.3, -0.3}, prior.options())).unsqueeze(0);
+  EXPECT_NEAR(skinning_smoothness_loss(geometry, shifted, prior).item<double>(), 0.0, 1e-12);
+
+  // (0.2, -0.2) added in column 2 only: the 3 horizontal and 2 diagonal edges
+  // between columns 1 and 2 jump by |0.2| + |-0.2| each, so 5 x 0.4 / 16 in
+  // that frame; a second, uncorrected frame halves the mean.
+  const torch::Tensor step =
+      (column == 2).to(prior.scalar_type()).unsqueeze(1) * torch::tensor({0.2, -0.2}, prior.options());
+  const torch::Tensor frames = torch::stack({prior + step, prior});
+  EXPECT_NEAR(skinning_smoothness_loss(geometry, frames, prior).item<double>(), 5 * 0.4 / 16 / 2, 1e-12);
+
+  // Without a prior the weights themselves are compared: the prior's own
+  // field changes by 0.5 + 0.5 along the 6 horizontal and 4 diagonal edges.
+  EXPECT_NEAR(skinning_smoothness_loss(geometry, prior.unsqueeze(0), torch::Tensor()).item<double>(),
+              10 * 1.0 / 16, 1e-12);
+
+  expect_gradient([&](const torch::Tensor& w) { return skinning_smoothness_loss(geometry, w, prior); },
+                  wobble(frames, 0.05, 3), "skinning smoothness");
 }
 
 TEST(TrainingLosses, CollisionPenalisesVerticesBelowTheMarginAlongTheBodyNormal) {

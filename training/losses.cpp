@@ -112,10 +112,17 @@ GarmentGeometry::GarmentGeometry(const Garment& garment, double density) {
   hinge_weight = torch::tensor(weight);
   hinge_rest = hinges.size(0) ? dihedral(rest, hinges) : torch::zeros({0});
   std::vector<int64_t> inner;
+  std::vector<double> inverse_area;
   const std::vector<uint8_t> mask = interior_vertex_mask(t, static_cast<int32_t>(v.rows()));
   for (size_t i = 0; i < mask.size(); ++i)
-    if (mask[i]) inner.push_back(static_cast<int64_t>(i));
+    if (mask[i] && garment.vertex_areas[static_cast<Eigen::Index>(i)] > 0.0) {
+      inner.push_back(static_cast<int64_t>(i));
+      inverse_area.push_back(1.0 / garment.vertex_areas[static_cast<Eigen::Index>(i)]);
+    }
   interior = torch::tensor(inner, torch::kInt64);
+  curvature_weight = torch::tensor(inverse_area, torch::kFloat64);
+  if (!inverse_area.empty()) curvature_weight = curvature_weight / curvature_weight.mean();
+  curvature_weight = curvature_weight.to(torch::kFloat32);
   if (garment.prepared) geodesic = garment.prepared->geodesic;
 }
 
@@ -171,7 +178,16 @@ torch::Tensor edge_loss(const GarmentGeometry& g, const torch::Tensor& x, const 
 
 torch::Tensor curvature_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth) {
   if (g.interior.size(0) == 0) return (x * 0).sum();
-  return (angle_sums(g, x) - angle_sums(g, truth)).index_select(-1, g.interior).abs().mean();
+  const torch::Tensor defect = (angle_sums(g, x) - angle_sums(g, truth)).index_select(-1, g.interior).abs();
+  return (defect * g.curvature_weight.to(x.scalar_type())).mean();
+}
+
+torch::Tensor skinning_smoothness_loss(const GarmentGeometry& g, const torch::Tensor& weights,
+                                       const torch::Tensor& prior_weights) {
+  const torch::Tensor correction = prior_weights.defined() ? weights - prior_weights : weights;
+  const torch::Tensor jump =
+      correction.index_select(-2, g.edges.select(1, 0)) - correction.index_select(-2, g.edges.select(1, 1));
+  return jump.abs().sum(-1).mean();
 }
 
 torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth) {

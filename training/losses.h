@@ -27,7 +27,8 @@ struct GarmentGeometry {
   torch::Tensor hinge_rest;    // H: rest dihedral angle
   torch::Tensor hinge_weight;  // H: 3 |e|² / (A1 + A2) (discrete shells)
   torch::Tensor interior;      // I (int64): vertices with a closed fan, where E_curv is measured
-  Csr geodesic;                // rest geodesic neighbourhoods (prepared garment; empty otherwise)
+  torch::Tensor curvature_weight;  // I: 1 / rest vertex area, divided by its mean (curvature_loss)
+  Csr geodesic;                    // rest geodesic neighbourhoods (prepared garment; empty otherwise)
 };
 
 // Frequency bands of the prepared garment as a linear projection of errors:
@@ -58,11 +59,22 @@ torch::Tensor vertex_loss(const torch::Tensor& x, const torch::Tensor& truth);
 // stretch against the vertex loss in centimetres (decision 0005).
 torch::Tensor edge_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
 
-// Mean over interior vertices of |Σθ - Σθ^GT|, the corner angles summed
-// at each vertex (radians): the angle defect that E_curv divides by the
-// vertex's area, left undivided so that small faces do not dominate
-// (decision 0005).
+// Mean over interior vertices of w |Σθ - Σθ^GT|, the corner angles summed
+// at each vertex (radians), w = 1 / the rest vertex area, divided by its
+// mean over the interior vertices: E_curv's own weighting (it divides the
+// angle defect by the vertex's area), scaled to a mean weight of 1 so that
+// k keeps its size across garments (decisions 0005, 0006).
 torch::Tensor curvature_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);
+
+// Roughness of the network's correction to the body's skinning: mean over
+// frames and mesh edges (i, j) of Σ_s |(w_is - w_js) - (p_is - p_js)|, with
+// w the predicted skinning weights (B x N x S) and p the weights of the
+// skinning prior alone (N x S; undefined: no prior, p = 0). Zero while the
+// correction is the same at both ends of every edge, whatever its size: it
+// is the weights' jumps between neighbours that bend the skinned cloth and
+// set E_curv at the skinning stage (decision 0006).
+torch::Tensor skinning_smoothness_loss(const GarmentGeometry& g, const torch::Tensor& weights,
+                                       const torch::Tensor& prior_weights);
 
 // Mean over faces of 1 - cos(n_f, n_f^GT).
 torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);

@@ -22,7 +22,10 @@ BoundGarment::BoundGarment(const runtime::Model& model, std::shared_ptr<const Ga
   features_ = runtime::FrameFeatures(model, binding_->skeleton, binding_->body_of_model);
   body_input = to_tensor(binding_->body_input);
   garment_input = to_tensor(binding_->garment_input);
-  if (binding_->prior.size() != 0) prior = to_tensor(binding_->prior);
+  if (binding_->prior.size() != 0) {
+    prior = to_tensor(binding_->prior);
+    prior_weights = torch::softmax(prior, -1);
+  }
   rest = to_tensor(binding_->rest);
   const Triangles& t = garment_->rest.triangles;
   triangles =

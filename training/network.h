@@ -35,7 +35,8 @@ class BoundGarment {
   const nn::AttentionGraph& graph(int64_t copies) const;
 
   torch::Tensor body_input, garment_input, prior, rest;  // float32
-  torch::Tensor triangles;                               // F x 3, int64
+  torch::Tensor prior_weights;  // N x S: softmax(prior), the weights the prior alone gives; undefined without
+  torch::Tensor triangles;      // F x 3, int64
 
  private:
   std::shared_ptr<const Garment> garment_;

@@ -20,9 +20,19 @@ using Json = nlohmann::json;
 }  // namespace
 
 const std::vector<std::string>& loss_names() {
-  static const std::vector<std::string> names = {"vertex",    "k_mid",   "k_high",    "edge",
-                                                 "curvature", "normal",  "collision", "self_collision",
-                                                 "gravity",   "stretch", "shear",     "bending"};
+  static const std::vector<std::string> names = {"vertex",
+                                                 "k_mid",
+                                                 "k_high",
+                                                 "edge",
+                                                 "curvature",
+                                                 "normal",
+                                                 "collision",
+                                                 "self_collision",
+                                                 "gravity",
+                                                 "stretch",
+                                                 "shear",
+                                                 "bending",
+                                                 "skinning_smoothness"};
   return names;
 }
 
