@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "runtime/model_file.h"
 #include "support/synthetic_sequence.h"
@@ -24,6 +25,21 @@ int lines(const std::string& path) {
   return n;
 }
 
+// The epoch the run keeps (checkpoint.json), and the one the model file says it holds.
+void expect_kept_epoch(const std::string& run, const std::string& model_file, int64_t epochs) {
+  std::ifstream in(run + "/checkpoint.json");
+  const nlohmann::json checkpoint = nlohmann::json::parse(in);
+  const int64_t kept = checkpoint.at("best_epoch").get<int64_t>();
+  EXPECT_GE(kept, 1);
+  EXPECT_LE(kept, epochs);
+  const auto model = pleat::runtime::load_model_file(model_file);
+  EXPECT_EQ(model->training.epochs, kept);
+  EXPECT_NE(
+      model->training.schedule.find("kept epoch " + std::to_string(kept) + " of " + std::to_string(epochs)),
+      std::string::npos)
+      << model->training.schedule;
+}
+
 }  // namespace
 
 TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
@@ -39,11 +55,10 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   EXPECT_NE(text.find("trained 3 epochs"), std::string::npos) << text;
   EXPECT_EQ(lines(root + "/run/log.csv"), 4) << "a header and one row per epoch";
-  const auto model = pleat::runtime::load_model_file(root + "/run/model.pleat");
-  EXPECT_EQ(model->training.epochs, 3);
-  EXPECT_EQ(model->code_width(), 16);
+  EXPECT_EQ(pleat::runtime::load_model_file(root + "/run/model.pleat")->code_width(), 16);
+  expect_kept_epoch(root + "/run", root + "/run/model.pleat", 3);
 
-  // Two more epochs resume the run; export writes the latest checkpoint.
+  // Two more epochs resume the run; export writes the kept epoch of all five.
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json --epochs 5 2>&1", &text), 0)
       << text;
   EXPECT_NE(text.find("resuming"), std::string::npos) << text;
@@ -52,7 +67,7 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
                                     &text),
             0)
       << text;
-  EXPECT_EQ(pleat::runtime::load_model_file(root + "/out.pleat")->training.epochs, 5);
+  expect_kept_epoch(root + "/run", root + "/out.pleat", 5);
 
   std::ofstream(root + "/bad.json")
       << R"({"train": ["skirt_walk"], "schedule": "schedule.json", "output": "x",

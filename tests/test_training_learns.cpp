@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "evaluation.h"
 #include "runtime/model_file.h"
@@ -65,12 +67,13 @@ TEST(TrainingLearns, SyntheticSkirtErrorDropsTenfoldAndTheExportMatches) {
     EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the curves are plotted";
   }
 
-  // The export reproduces the trainer in the runtime.
+  // The export (the kept epoch) reproduces the trainer's network in the runtime.
   const std::shared_ptr<runtime::Model> model = trainer.export_model();
   runtime::save_model(*model, root + "/run/model.pleat");
   const auto loaded = runtime::load_model_file(root + "/run/model.pleat");
   EXPECT_EQ(loaded->training.optimizer, "adamax");
-  EXPECT_NEAR(loaded->training.metrics.front().value, last.validation.e_verts_cm, 1e-9);
+  EXPECT_EQ(loaded->training.epochs, trainer.best_epoch());
+  EXPECT_LT(loaded->training.metrics.front().value, initial / 10.0);
   const TrainingSequence& s = trainer.training_data().sequences().front();
   runtime::InstanceOptions o;
   o.top_k = loaded->joint_count();
@@ -82,8 +85,9 @@ TEST(TrainingLearns, SyntheticSkirtErrorDropsTenfoldAndTheExportMatches) {
   instance.evaluate(s.poses(), 20, 1, runtime::Stage::refinement, out);
   torch::NoGradGuard no_grad;
   BoundGarment bound(*loaded, s.garment, s.body);
+  Network kept(*loaded);
   const torch::Tensor trained =
-      trainer.network()->forward(bound, s.poses(), {20}, runtime::Stage::refinement).positions.contiguous();
+      kept->forward(bound, s.poses(), {20}, runtime::Stage::refinement).positions.contiguous();
   double worst = 0;
   for (int i = 0; i < n * 3; ++i)
     worst = std::max(worst, double(std::abs(trained.data_ptr<float>()[i] - runtime_positions[i])));
@@ -160,4 +164,75 @@ TEST(TrainingLearns, LbsBaselineMissesThePush) {
   EXPECT_EQ(m.frame_count, 31u);
   EXPECT_GT(m.e_verts_cm, 1.8);
   EXPECT_LT(m.e_verts_cm, 2.05);
+}
+
+TEST(TrainingLearns, WorstRatioIsTheLargestFractionOfTheBaseline) {
+  MetricsResult lbs, model;
+  lbs.e_verts_cm = 2.0, model.e_verts_cm = 1.0;                          // 0.5
+  lbs.e_curv = 400.0, model.e_curv = 600.0;                              // 1.5: the worst
+  lbs.e_edge_percent = 10.0, model.e_edge_percent = 12.0;                // 1.2
+  lbs.self_collision_percent = 0.0, model.self_collision_percent = 3.0;  // left out: LBS has none
+  EXPECT_DOUBLE_EQ(worst_ratio(model, lbs), 1.5);
+  model.e_curv = 300.0;
+  EXPECT_DOUBLE_EQ(worst_ratio(model, lbs), 1.2);
+}
+
+// With validation data the trainer keeps the epoch whose worst metric against
+// LBS on it is lowest: recomputed here from log.csv, and the export (also
+// after a resume, from best.pt) carries that epoch's validation metrics.
+TEST(TrainingLearns, KeepsTheEpochWithTheLowestWorstRatioAgainstLbs) {
+  const std::string root = pleat_test::temp_dir("training_best");
+  const std::string data = pleat_test::write_skirt_walk(root);
+  TrainerConfig c = config(data, root + "/run", 5);
+  // Three supervised epochs, then two that only pull the skirt down: the
+  // last epoch is not the one to keep.
+  c.schedule = parse_schedule(R"({"phases": [
+      {"name": "supervised", "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15},
+       "advance": {"epochs": 3}},
+      {"name": "sag", "scale_supervised": 0, "weights": {"gravity": 1000}}]})",
+                              "test");
+  int64_t expected = 0;
+  double lowest = 0.0;
+  std::vector<MetricsResult> logged;
+  {
+    Trainer trainer(c);
+    trainer.run();
+    const MetricsResult& lbs = trainer.validation_baseline();
+    EXPECT_GT(lbs.e_verts_cm, 1.0);
+    std::ifstream log(root + "/run/log.csv");
+    std::string line;
+    std::getline(log, line);  // header
+    while (std::getline(log, line)) {
+      std::vector<double> f;
+      std::stringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) f.push_back(std::atof(cell.c_str()));
+      MetricsResult m;
+      m.e_verts_cm = f[5], m.e_vnorm_deg = f[6], m.e_fnorm_deg = f[7], m.e_edge_percent = f[8];
+      m.e_curv = f[9], m.e_low_cm = f[10], m.e_mid_cm = f[11], m.e_high_cm = f[12];
+      m.self_collision_percent = f[13];
+      logged.push_back(m);
+      const double ratio = worst_ratio(m, lbs);
+      if (expected == 0 || ratio < lowest) expected = static_cast<int64_t>(logged.size()), lowest = ratio;
+    }
+    ASSERT_EQ(logged.size(), 5u);
+    EXPECT_LE(expected, 3) << "an epoch before the sag is kept";
+    EXPECT_EQ(trainer.best_epoch(), expected);
+  }
+  Trainer resumed(c);  // nothing left to train: export from the checkpoint and best.pt
+  EXPECT_EQ(resumed.epoch(), 5);
+  EXPECT_EQ(resumed.best_epoch(), expected);
+  const std::shared_ptr<runtime::Model> model = resumed.export_model();
+  EXPECT_EQ(model->training.epochs, expected);
+  const MetricsResult& kept = logged[static_cast<size_t>(expected - 1)];
+  EXPECT_NEAR(model->training.metrics[0].value, kept.e_verts_cm, 1e-4 * kept.e_verts_cm);
+  EXPECT_NEAR(model->training.metrics[4].value, kept.e_curv, 1e-4 * kept.e_curv);
+  // The exported weights are the kept epoch's: the runtime, skinning with
+  // every joint as the trainer does, scores them as the trainer did after
+  // that epoch (float rounding apart).
+  runtime::InstanceOptions exact;
+  exact.top_k = model->joint_count();
+  const MetricsResult rescored =
+      model_metrics(resumed.training_data(), model, runtime::Stage::refinement, exact);
+  EXPECT_NEAR(rescored.e_verts_cm, kept.e_verts_cm, 1e-3 * kept.e_verts_cm);
+  EXPECT_NEAR(rescored.e_curv, kept.e_curv, 1e-3 * kept.e_curv);
 }

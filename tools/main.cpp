@@ -34,7 +34,7 @@ const char* kUsage =
     "      --stage skinning|blend-shapes|full (full)  --threads N (1)  --top-k K (model's)\n"
     "      --first N --frames N         frame range (earlier frames are history)\n"
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
-    "  export config.json -o m.pleat    the latest checkpoint as a model file (pleat-train)\n"
+    "  export config.json -o m.pleat    the kept epoch as a model file (pleat-train)\n"
     "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
     "  datagen config.json [--jobs N]   simulate a training data set in Blender (docs/datagen.md;\n"
     "                                   runs pleat-datagen; --help for its options)\n"

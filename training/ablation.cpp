@@ -27,16 +27,21 @@ std::vector<AblationRow> run_ablation(const TrainerConfig& base) {
     c.frequency_division = v.frequency_division;
     if (c.progress) std::fprintf(stderr, "ablation: %s\n", v.name);
     Trainer trainer(c);
-    rows.push_back({v.name, trainer.run()});
+    EpochResult result = trainer.run();
+    if (trainer.best_epoch() > 0) {  // report what export writes
+      result.epoch = trainer.best_epoch();
+      result.validation = trainer.best_validation();
+    }
+    rows.push_back({v.name, result});
   }
   std::filesystem::create_directories(base.output);
   std::ofstream md(base.output + "/ablation.md"), csv(base.output + "/ablation.csv");
   md << "| configuration | E_verts (cm) | E_vnorm (°) | E_fnorm (°) | E_edge (%) | E_curv | E_low (cm) | "
         "E_mid (cm) "
-        "| E_high (cm) | self-collision (%) | epochs "
+        "| E_high (cm) | self-collision (%) | kept epoch "
         "|\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   csv << "configuration,e_verts_cm,e_vnorm_deg,e_fnorm_deg,e_edge_percent,e_curv,e_low_cm,e_mid_cm,e_high_cm,"
-         "self_collision_percent,epochs\n";
+         "self_collision_percent,kept_epoch\n";
   for (const AblationRow& r : rows) {
     const MetricsResult& m = r.result.validation;
     char line[512];

@@ -12,7 +12,7 @@ namespace pleat::training {
 
 struct AblationRow {
   std::string name;
-  EpochResult result;  // the last epoch's, with its validation metrics
+  EpochResult result;  // the last epoch's, with the kept epoch's number and validation metrics
 };
 
 // Runs into <base.output>/<run name>/ (each resumable) and writes

@@ -40,6 +40,27 @@ void accumulate(MetricsResult* total, const MetricsResult& m) {
   total->computed = m.computed;
 }
 
+const std::vector<TableMetric>& table_metrics() {
+  static const std::vector<TableMetric> metrics = {
+      {"e_verts_cm", &MetricsResult::e_verts_cm},
+      {"e_vnorm_deg", &MetricsResult::e_vnorm_deg},
+      {"e_fnorm_deg", &MetricsResult::e_fnorm_deg},
+      {"e_edge_percent", &MetricsResult::e_edge_percent},
+      {"e_curv", &MetricsResult::e_curv},
+      {"e_low_cm", &MetricsResult::e_low_cm},
+      {"e_mid_cm", &MetricsResult::e_mid_cm},
+      {"e_high_cm", &MetricsResult::e_high_cm},
+      {"self_collision_percent", &MetricsResult::self_collision_percent}};
+  return metrics;
+}
+
+double worst_ratio(const MetricsResult& model, const MetricsResult& baseline) {
+  double worst = 0.0;
+  for (const TableMetric& m : table_metrics())
+    if (baseline.*m.field > 0.0) worst = std::max(worst, model.*m.field / (baseline.*m.field));
+  return worst;
+}
+
 MetricsResult lbs_baseline(const Dataset& data) {
   MetricsResult total;
   for (const TrainingSequence& s : data.sequences()) {
@@ -72,10 +93,10 @@ MetricsResult lbs_baseline(const Dataset& data) {
 }
 
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
-                            runtime::Stage stage) {
+                            runtime::Stage stage, const runtime::InstanceOptions& options) {
   MetricsResult total;
   for (const TrainingSequence& s : data.sequences()) {
-    runtime::Instance instance(model, s.garment, s.body, runtime::InstanceOptions{});
+    runtime::Instance instance(model, s.garment, s.body, options);
     const int64_t n = instance.vertex_count(), batch = instance.max_batch();
     std::vector<float> predicted(static_cast<size_t>(s.frame_count() * n * 3));
     const runtime::PoseSequence poses = s.poses();

@@ -3,6 +3,8 @@
 // metrics, frequency bands of the sequence's prepared garment), their
 // frame-weighted mean over several sequences, and the plain LBS baseline of
 // the paper's comparison.
+#include <vector>
+
 #include "dataset.h"
 #include "metrics/metrics.h"
 
@@ -18,9 +20,24 @@ void accumulate(MetricsResult* total, const MetricsResult& m);
 // vertex (no network): the "LBS" row of the comparison tables.
 MetricsResult lbs_baseline(const Dataset& data);
 
+// Table I's metrics: their names in model files and checkpoints, their fields.
+struct TableMetric {
+  const char* name;
+  double MetricsResult::*field;
+};
+const std::vector<TableMetric>& table_metrics();
+
+// The largest of model's Table I metrics as a fraction of the baseline's
+// (1.5: one metric is 50 % above LBS; below 1: every metric beats it). A
+// metric the baseline has at zero is left out, since nothing can beat it.
+// The trainer keeps the validation epoch with the lowest value.
+double worst_ratio(const MetricsResult& model, const MetricsResult& baseline);
+
 // The model run by the runtime (runtime/instance.h, up to `stage`, as a host
-// would run it) on every sequence, frame-weighted over the data set.
+// would run it: by default with top-4 skinning) on every sequence,
+// frame-weighted over the data set.
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
-                            runtime::Stage stage = runtime::Stage::refinement);
+                            runtime::Stage stage = runtime::Stage::refinement,
+                            const runtime::InstanceOptions& options = {});
 
 }  // namespace pleat::training

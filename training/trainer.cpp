@@ -55,6 +55,20 @@ void progress(int64_t epoch, int64_t epochs, size_t done, size_t total, double l
                std::string(static_cast<size_t>(width - filled), ' ').c_str(), done, total, loss);
 }
 
+Json metrics_json(const MetricsResult& m) {
+  Json j = {{"frame_count", m.frame_count}, {"computed", m.computed}};
+  for (const TableMetric& metric : table_metrics()) j[metric.name] = m.*metric.field;
+  return j;
+}
+
+MetricsResult metrics_from_json(const Json& j) {
+  MetricsResult m;
+  m.frame_count = j.at("frame_count").get<uint64_t>();
+  m.computed = j.at("computed").get<uint32_t>();
+  for (const TableMetric& metric : table_metrics()) m.*metric.field = j.at(metric.name).get<double>();
+  return m;
+}
+
 }  // namespace
 
 TrainerConfig read_trainer_config(const std::string& path) {
@@ -155,6 +169,7 @@ Trainer::Trainer(TrainerConfig config)
         entry.second = std::make_unique<BandProjector>(s.garment->prepared->bands);
       }
     }
+  if (!validation_.sequences().empty()) validation_lbs_ = lbs_baseline(validation_);
   std::filesystem::create_directories(config_.output);
   load_checkpoint();
 }
@@ -183,6 +198,9 @@ torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<i
   if (weight("edge") > 0) loss = loss + weight("edge") * edge_loss(*geometry, x, truth);
   if (weight("curvature") > 0) loss = loss + weight("curvature") * curvature_loss(*geometry, x, truth);
   if (weight("normal") > 0) loss = loss + weight("normal") * normal_loss(*geometry, x, truth);
+  if (weight("skinning_smoothness") > 0)
+    loss = loss + weight("skinning_smoothness") *
+                      skinning_smoothness_loss(*geometry, out.weights, bound_train_[index]->prior_weights);
   if (weight("collision") > 0)
     loss = loss + weight("collision") * collision_loss(x, s.body_positions.index_select(0, at),
                                                        s.body_normals.index_select(0, at));
@@ -275,6 +293,7 @@ EpochResult Trainer::run(int64_t stop_after) {
   while (epoch_ < end) {
     last = train_epoch();
     log(last);
+    keep_if_best(last);
     save_checkpoint();
   }
   if (config_.plot && epoch_ > 0) plot();
@@ -306,6 +325,24 @@ void Trainer::log(const EpochResult& r) const {
   if (!out) fail(PLEAT_ERROR_IO, "cannot append to '" + path + "'");
 }
 
+void Trainer::keep_if_best(const EpochResult& r) {
+  if (validation_.sequences().empty()) return;
+  const double ratio = worst_ratio(r.validation, validation_lbs_);
+  if (best_epoch_ == 0 || ratio < best_ratio_) {
+    best_epoch_ = r.epoch;
+    best_ratio_ = ratio;
+    best_validation_ = r.validation;
+    best_parameters_.clear();
+    for (const torch::Tensor& p : network_->parameters()) best_parameters_.push_back(p.detach().clone());
+    const std::string path = config_.output + "/best.pt";
+    torch::save(best_parameters_, path + ".tmp");
+    std::filesystem::rename(path + ".tmp", path);
+  }
+  if (config_.progress)
+    std::fprintf(stderr, "epoch %lld: worst metric %.3f x LBS on validation; kept epoch %lld (%.3f x)\n",
+                 static_cast<long long>(r.epoch), ratio, static_cast<long long>(best_epoch_), best_ratio_);
+}
+
 void Trainer::save_checkpoint() const {
   std::vector<torch::Tensor> tensors;
   for (const torch::Tensor& p : network_->parameters()) tensors.push_back(p.detach());
@@ -317,6 +354,9 @@ void Trainer::save_checkpoint() const {
   const Json meta = {{"epoch", epoch_},
                      {"parameters", network_->parameters().size()},
                      {"body_vertex_stride", config_.model.body_vertex_stride},
+                     {"best_epoch", best_epoch_},
+                     {"best_ratio", best_ratio_},
+                     {"best_validation", metrics_json(best_validation_)},
                      {"schedule", schedule_.save()},
                      {"rng", rng.str()}};
   {
@@ -352,6 +392,14 @@ bool Trainer::load_checkpoint() {
   optimizer_->load_state(std::vector<torch::Tensor>(
       tensors.begin() + static_cast<std::ptrdiff_t>(parameters.size()), tensors.end()));
   epoch_ = meta.at("epoch").get<int64_t>();
+  best_epoch_ = meta.value("best_epoch", int64_t{0});
+  if (best_epoch_ > 0) {
+    best_ratio_ = meta.at("best_ratio").get<double>();
+    best_validation_ = metrics_from_json(meta.at("best_validation"));
+    torch::load(best_parameters_, config_.output + "/best.pt");
+    if (best_parameters_.size() != parameters.size())
+      fail(PLEAT_ERROR_FORMAT, "'" + config_.output + "/best.pt' does not hold this architecture's weights");
+  }
   schedule_.restore(meta.at("schedule").get<std::string>());
   std::istringstream rng(meta.at("rng").get<std::string>());
   rng >> rng_;
@@ -359,7 +407,16 @@ bool Trainer::load_checkpoint() {
 }
 
 std::shared_ptr<runtime::Model> Trainer::export_model() const {
-  std::shared_ptr<runtime::Model> m = network_->to_model();
+  std::shared_ptr<runtime::Model> m;
+  if (best_epoch_ > 0) {
+    Network kept(*initial_);
+    torch::NoGradGuard no_grad;
+    std::vector<torch::Tensor> parameters = kept->parameters();
+    for (size_t i = 0; i < parameters.size(); ++i) parameters[i].copy_(best_parameters_[i]);
+    m = kept->to_model();
+  } else {
+    m = network_->to_model();
+  }
   runtime::TrainingInfo& t = m->training;
   t.dataset = std::to_string(train_.sequences().size()) + " training sequences (" +
               std::to_string(train_.frame_count()) + " frames), " +
@@ -367,20 +424,15 @@ std::shared_ptr<runtime::Model> Trainer::export_model() const {
   t.optimizer = "adamax";
   t.learning_rate = config_.learning_rate;
   t.schedule = "cosine; " + config_.schedule_source;
-  t.epochs = epoch_;
+  if (best_epoch_ > 0)
+    t.schedule += "; kept epoch " + std::to_string(best_epoch_) + " of " + std::to_string(epoch_) +
+                  " (lowest worst metric against LBS on validation)";
+  t.epochs = best_epoch_ > 0 ? best_epoch_ : epoch_;
   t.seed = static_cast<int64_t>(config_.seed);
   t.created = iso_now();
   t.generator = "pleat " PLEAT_VERSION_STRING " trainer";
-  const MetricsResult& v = last_validation_;
-  t.metrics = {{"e_verts_cm", v.e_verts_cm},
-               {"e_vnorm_deg", v.e_vnorm_deg},
-               {"e_fnorm_deg", v.e_fnorm_deg},
-               {"e_edge_percent", v.e_edge_percent},
-               {"e_curv", v.e_curv},
-               {"e_low_cm", v.e_low_cm},
-               {"e_mid_cm", v.e_mid_cm},
-               {"e_high_cm", v.e_high_cm},
-               {"self_collision_percent", v.self_collision_percent}};
+  const MetricsResult& v = best_epoch_ > 0 ? best_validation_ : last_validation_;
+  for (const TableMetric& metric : table_metrics()) t.metrics.push_back({metric.name, v.*metric.field});
   m->source = config_.output + "/model.pleat";
   return m;
 }

@@ -23,7 +23,7 @@ struct TrainerConfig {
   std::vector<std::string> train, validation, test;  // sequence folders
   Schedule schedule;
   std::string schedule_source = "inline";
-  std::string output;  // folder: checkpoint.pt, checkpoint.json, log.csv, model.pleat
+  std::string output;  // folder: checkpoint.pt, checkpoint.json, best.pt, log.csv, model.pleat
   int64_t epochs = 100;
   int64_t batch_frames = 4;
   int64_t sequences_per_batch = 0;  // 0: batches mix frames freely (Dataset::epoch)
@@ -63,14 +63,20 @@ class Trainer {
   EpochResult train_epoch();
   MetricsResult validate(const Dataset& data);
 
+  // The kept epoch's weights as a model: with validation data the epoch with
+  // the lowest worst_ratio against LBS on it (best_epoch()), else the last.
   std::shared_ptr<runtime::Model> export_model() const;
   int64_t epoch() const { return epoch_; }
+  int64_t best_epoch() const { return best_epoch_; }  // 0: none kept (no validation data)
+  const MetricsResult& best_validation() const { return best_validation_; }
+  const MetricsResult& validation_baseline() const { return validation_lbs_; }
   Network& network() { return network_; }
   const Dataset& training_data() const { return train_; }
 
  private:
   struct Garments;  // losses' per-garment data (geometry, bands)
   torch::Tensor batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames, double* vertex_cm);
+  void keep_if_best(const EpochResult& r);
   void save_checkpoint() const;
   bool load_checkpoint();
   void log(const EpochResult& r) const;
@@ -88,6 +94,12 @@ class Trainer {
   std::mt19937_64 rng_;
   int64_t epoch_ = 0;
   MetricsResult last_validation_;
+  MetricsResult validation_lbs_;  // the LBS baseline on the validation split
+  // The kept epoch (best.pt): its number, worst_ratio, validation metrics, weights.
+  int64_t best_epoch_ = 0;
+  double best_ratio_ = 0.0;
+  MetricsResult best_validation_;
+  std::vector<torch::Tensor> best_parameters_;
 };
 
 }  // namespace pleat::training

@@ -4,7 +4,7 @@
 //
 //   pleat-train train config.json [--epochs N]   train (resumes from the output's checkpoint),
 //                                                then write <output>/model.pleat
-//   pleat-train export config.json -o model.pleat  the latest checkpoint as a model file
+//   pleat-train export config.json -o model.pleat  the kept epoch as a model file
 //   pleat-train ablation config.json              the four runs of the paper's Table I and
 //                                                <output>/ablation.md
 //   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
