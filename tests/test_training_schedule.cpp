@@ -104,7 +104,7 @@ TEST(TrainingSchedule, RefusesBadFilesNamingFileAndPhase) {
   expect_refused(R"({"phases": [{}, {"advance": {"soon": true}}]})", "phase 1: unknown advance condition");
 }
 
-TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesAndACurvatureTerm) {
+TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureAndSmoothness) {
   const Schedule paper = read_schedule(schedule_file("paper.json"));
   const Schedule demo = read_schedule(schedule_file("demo.json"));
   ASSERT_EQ(paper.phases.size(), 5u);
@@ -112,10 +112,10 @@ TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesAndACurvatureTe
   for (size_t i = 0; i < paper.phases.size(); ++i) {
     const Phase &p = paper.phases[i], &d = demo.phases[i];
     EXPECT_EQ(d.name, p.name);
-    // The paper's weights, plus pleat's curvature term from the first phase
-    // on (decision 0005).
+    // The paper's weights, plus pleat's curvature term (decision 0005) and
+    // skinning smoothness (decision 0006) from the first phase on.
     LossWeights expected = p.weights;
-    if (i == 0) expected["curvature"] = 5;
+    if (i == 0) expected["curvature"] = 5, expected["skinning_smoothness"] = 10;
     EXPECT_EQ(d.weights, expected) << p.name;
     EXPECT_EQ(d.scale_supervised, p.scale_supervised) << p.name;
     EXPECT_EQ(d.freeze_encoders, p.freeze_encoders) << p.name;
