@@ -51,8 +51,11 @@ int train(int argc, char** argv) {
   const pleat::training::EpochResult r = trainer.run();
   const std::string out = config.output + "/model.pleat";
   pleat::runtime::save_model(*trainer.export_model(), out);
-  std::printf("trained %lld epochs; validation E_verts %.3f cm; wrote %s\n",
-              static_cast<long long>(trainer.epoch()), r.validation.e_verts_cm, out.c_str());
+  const bool kept = trainer.best_epoch() > 0;
+  std::printf("trained %lld epochs; wrote %s: epoch %lld, validation E_verts %.3f cm\n",
+              static_cast<long long>(trainer.epoch()), out.c_str(),
+              static_cast<long long>(kept ? trainer.best_epoch() : trainer.epoch()),
+              kept ? trainer.best_validation().e_verts_cm : r.validation.e_verts_cm);
   return 0;
 }
 
