@@ -46,16 +46,17 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   const std::string root = pleat_test::temp_dir("training_cli");
   const std::string data = pleat_test::write_skirt_walk(root);
   std::ofstream(root + "/schedule.json") << R"({"phases": [{"name": "supervised",
-      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15}}]})";
+      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15, "offset_smoothness": 1}}]})";
   std::ofstream(root + "/config.json") << R"({"train": ["skirt_walk"], "validation": ["skirt_walk"],
       "schedule": "schedule.json", "output": "run", "epochs": 3, "batch_frames": 8, "progress": false,
       "model": {"code_width": 16, "body_widths": [16], "garment_widths": [16, 16], "gru_layers": 1,
-                "blend_widths": [16, 3], "refinement_widths": [16, 3]}})";
+                "blend_widths": [16, 3], "refinement_widths": [16, 3], "default_top_k": 6}})";
   std::string text;
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   EXPECT_NE(text.find("trained 3 epochs"), std::string::npos) << text;
   EXPECT_EQ(lines(root + "/run/log.csv"), 4) << "a header and one row per epoch";
   EXPECT_EQ(pleat::runtime::load_model_file(root + "/run/model.pleat")->code_width(), 16);
+  EXPECT_EQ(pleat::runtime::load_model_file(root + "/run/model.pleat")->default_top_k, 6);
   expect_kept_epoch(root + "/run", root + "/run/model.pleat", 3);
 
   // Two more epochs resume the run; export writes the kept epoch of all five.
@@ -81,7 +82,7 @@ TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
   const std::string root = pleat_test::temp_dir("training_ablation");
   pleat_test::write_skirt_walk(root);
   std::ofstream(root + "/schedule.json") << R"({"phases": [{"name": "supervised",
-      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15}}]})";
+      "weights": {"vertex": 100, "k_mid": 2, "k_high": 1.5, "edge": 15, "offset_smoothness": 1}}]})";
   std::ofstream(root + "/config.json") << R"({"train": ["skirt_walk"], "validation": ["skirt_walk"],
       "schedule": "schedule.json", "output": "ablation", "epochs": 1, "batch_frames": 16, "progress": false,
       "plot": false, "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
@@ -146,6 +147,22 @@ TEST(TrainingCli, EvaluateScoresTheTestSplitOfADataSet) {
   };
   EXPECT_FALSE(model_row(text).empty()) << text;
   EXPECT_EQ(model_row(staged), model_row(text));
+
+  // --top-k overrides the model's default_top_k (4): one joint per vertex
+  // skins the skirt differently, and a count below 1 is refused.
+  std::string single;
+  ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --top-k 1 --model " + root +
+                                        "/run/model.pleat 2>&1",
+                                    &single),
+            0)
+      << single;
+  EXPECT_FALSE(model_row(single).empty()) << single;
+  EXPECT_NE(model_row(single), model_row(text));
+  EXPECT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --top-k 0 --model " + root +
+                                        "/run/model.pleat 2>&1",
+                                    &single),
+            2);
+  EXPECT_NE(single.find("--top-k needs a count of at least 1"), std::string::npos) << single;
 
   std::ofstream(root + "/both.json") << R"({"dataset": "set", "train": ["set/skirt_walk"],
       "schedule": "schedule.json", "output": "x"})";

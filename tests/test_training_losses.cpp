@@ -239,6 +239,42 @@ TEST(TrainingLosses, SkinningSmoothnessPenalisesJumpsOfTheCorrectionToThePrior) 
                   wobble(frames, 0.05, 3), "skinning smoothness");
 }
 
+TEST(TrainingLosses, OffsetSmoothnessIsTheOffsetSlopeAlongEachEdge) {
+  // 3 x 3 sheet of spacing 0.1: 6 horizontal and 6 vertical edges of 0.1, and
+  // 4 diagonals of 0.1 sqrt(2) that also advance 0.1 in x.
+  const Garment g = sheet(3, 0.1);
+  const GarmentGeometry geometry(g);
+  const torch::Tensor x = positions(g)[0].select(1, 0);  // N
+  const torch::Tensor zero = torch::zeros_like(x);
+
+  // A uniform offset has no slope, whatever its size.
+  const torch::Tensor shift = torch::stack({zero + 0.3, zero - 0.2, zero + 0.1}, 1).unsqueeze(0);
+  EXPECT_NEAR(offset_smoothness_loss(geometry, shift).item<double>(), 0.0, 1e-12);
+
+  // Offsets 0.05 x along z, in one frame of two: slope 0.05 on the horizontal
+  // edges, 0 on the vertical ones, 0.05 / sqrt(2) on the diagonals.
+  const torch::Tensor ramp = torch::stack({zero, zero, 0.05 * x}, 1);
+  const torch::Tensor frames = torch::stack({ramp, torch::zeros_like(ramp)});
+  EXPECT_NEAR(offset_smoothness_loss(geometry, frames).item<double>(),
+              (6 * 0.05 + 4 * 0.05 / std::sqrt(2.0)) / 16 / 2, 1e-7);
+
+  // The same jump costs ten times more across an edge ten times shorter.
+  Points3d v = g.rest.vertices;
+  for (int i = 0; i < v.rows(); ++i) v(i, 1) *= 0.1;  // rows 1 cm apart
+  GarmentBuildOptions o;
+  o.weld_tolerance = -1.0;
+  const GarmentGeometry flat(build_garment(v, g.rest.triangles, o, "flat"));
+  const torch::Tensor row = (positions(g)[0].select(1, 1) / 0.1).round();  // 0, 1, 2
+  const torch::Tensor step = torch::stack({zero, zero, 0.001 * row}, 1).unsqueeze(0);
+  const double diagonal = std::sqrt(0.1 * 0.1 + 0.01 * 0.01);
+  EXPECT_NEAR(offset_smoothness_loss(geometry, step).item<double>(),
+              (6 * 0.01 + 4 * 0.001 / std::sqrt(0.02)) / 16, 1e-7);
+  EXPECT_NEAR(offset_smoothness_loss(flat, step).item<double>(), (6 * 0.1 + 4 * 0.001 / diagonal) / 16, 1e-6);
+
+  expect_gradient([&](const torch::Tensor& b) { return offset_smoothness_loss(geometry, b); },
+                  wobble(frames, 0.05, 4), "offset smoothness");
+}
+
 TEST(TrainingLosses, CollisionPenalisesVerticesBelowTheMarginAlongTheBodyNormal) {
   // Body: a coarse plane y = 0 facing +y; garment 1 cm below it, so
   // d = -1 cm and every vertex costs (0.4 + 1)³.

@@ -70,6 +70,10 @@ GarmentGeometry::GarmentGeometry(const Garment& garment, double density) {
   std::vector<int64_t> e;
   for (const Edge& edge : garment.edges) e.insert(e.end(), {edge.a, edge.b});
   edges = long_tensor(e, 2);
+  std::vector<float> length;
+  for (const Edge& edge : garment.edges)
+    length.push_back(static_cast<float>((v.row(edge.a) - v.row(edge.b)).norm()));
+  edge_lengths = torch::tensor(length);
   std::vector<int64_t> tri(t.data(), t.data() + t.size());
   triangles = long_tensor(tri, 3);
 
@@ -188,6 +192,16 @@ torch::Tensor skinning_smoothness_loss(const GarmentGeometry& g, const torch::Te
   const torch::Tensor jump =
       correction.index_select(-2, g.edges.select(1, 0)) - correction.index_select(-2, g.edges.select(1, 1));
   return jump.abs().sum(-1).mean();
+}
+
+torch::Tensor offset_smoothness_loss(const GarmentGeometry& g, const torch::Tensor& offsets) {
+  const torch::Tensor jump =
+      (offsets.index_select(-2, g.edges.select(1, 0)) - offsets.index_select(-2, g.edges.select(1, 1)))
+          .norm(2, -1);
+  const torch::Tensor length = g.edge_lengths.to(offsets.scalar_type());
+  const torch::Tensor valid = length > 0;
+  const torch::Tensor slope = jump / length.clamp_min(1e-12);
+  return torch::where(valid, slope, torch::zeros_like(slope)).sum(-1).mean() / valid.sum().clamp_min(1);
 }
 
 torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth) {

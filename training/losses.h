@@ -28,6 +28,7 @@ struct GarmentGeometry {
   torch::Tensor hinge_weight;  // H: 3 |e|² / (A1 + A2) (discrete shells)
   torch::Tensor interior;      // I (int64): vertices with a closed fan, where E_curv is measured
   torch::Tensor curvature_weight;  // I: 1 / rest vertex area, divided by its mean (curvature_loss)
+  torch::Tensor edge_lengths;      // E: rest length of each edge
   Csr geodesic;                    // rest geodesic neighbourhoods (prepared garment; empty otherwise)
 };
 
@@ -75,6 +76,16 @@ torch::Tensor curvature_loss(const GarmentGeometry& g, const torch::Tensor& x, c
 // set E_curv at the skinning stage (decision 0006).
 torch::Tensor skinning_smoothness_loss(const GarmentGeometry& g, const torch::Tensor& weights,
                                        const torch::Tensor& prior_weights);
+
+// Roughness of an offset field the network adds (B x N x 3: the blend
+// shapes in rest space, or the refinement's Δ): mean over frames and mesh
+// edges (i, j) of |o_i - o_j| / |rest edge|, the field's slope along the
+// edge. A wrinkle a few centimetres wide has slopes of a few tenths; offsets
+// that differ between the vertices of millimetre faces have slopes of
+// several, and those are what E_curv, which divides the angle defect by the
+// vertex area, measures most (decision 0007). Edges of zero rest length are
+// skipped.
+torch::Tensor offset_smoothness_loss(const GarmentGeometry& g, const torch::Tensor& offsets);
 
 // Mean over faces of 1 - cos(n_f, n_f^GT).
 torch::Tensor normal_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& truth);

@@ -168,11 +168,12 @@ NetworkOutput NetworkImpl::forward(const BoundGarment& bound, const runtime::Pos
   torch::Tensor logits = torch::matmul(fused, skinning_weight_) + skinning_bias_;
   if (bound.prior.defined()) logits = logits + bound.prior;
   const torch::Tensor weights = torch::softmax(logits, -1);  // K x N x S
-  torch::Tensor shaped = bound.rest.unsqueeze(0).expand({k, n, 3});
-  if (stage != runtime::Stage::skinning)
-    shaped =
-        shaped + spec_.blend_scale *
-                     stack(blend_, fused.reshape({k * n, fused.size(2)}), bound.graph(k)).view({k, n, 3});
+  torch::Tensor shaped = bound.rest.unsqueeze(0).expand({k, n, 3}), blend;
+  if (stage != runtime::Stage::skinning) {
+    blend = spec_.blend_scale *
+            stack(blend_, fused.reshape({k * n, fused.size(2)}), bound.graph(k)).view({k, n, 3});
+    shaped = shaped + blend;
+  }
   const torch::Tensor blended = torch::bmm(weights, in.skin).view({k, n, 3, 4});
   const torch::Tensor skinned =
       torch::matmul(blended.narrow(3, 0, 3), shaped.unsqueeze(-1)).squeeze(-1) + blended.select(3, 3);
@@ -180,6 +181,7 @@ NetworkOutput NetworkImpl::forward(const BoundGarment& bound, const runtime::Pos
   NetworkOutput out;
   out.skinned = skinned.narrow(0, 0, b);
   out.weights = weights.narrow(0, 0, b);
+  if (blend.defined()) out.blend = blend.narrow(0, 0, b);
   if (!refine) {
     out.positions = out.skinned;
     return out;

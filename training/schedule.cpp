@@ -32,7 +32,8 @@ const std::vector<std::string>& loss_names() {
                                                  "stretch",
                                                  "shear",
                                                  "bending",
-                                                 "skinning_smoothness"};
+                                                 "skinning_smoothness",
+                                                 "offset_smoothness"};
   return names;
 }
 

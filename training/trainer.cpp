@@ -126,6 +126,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
       const Json& m = j["model"];
       c.model.variant = variant_named(m.value("variant", std::string("flexigat")), path);
       c.model.window_frames = m.value("window_frames", c.model.window_frames);
+      c.model.default_top_k = m.value("default_top_k", c.model.default_top_k);
       c.model.code_width = m.value("code_width", c.model.code_width);
       c.model.heads = m.value("heads", c.model.heads);
       c.model.gru_layers = m.value("gru_layers", c.model.gru_layers);
@@ -201,6 +202,9 @@ torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<i
   if (weight("skinning_smoothness") > 0)
     loss = loss + weight("skinning_smoothness") *
                       skinning_smoothness_loss(*geometry, out.weights, bound_train_[index]->prior_weights);
+  if (weight("offset_smoothness") > 0)
+    loss = loss + weight("offset_smoothness") * (offset_smoothness_loss(*geometry, out.blend) +
+                                                 offset_smoothness_loss(*geometry, x - out.skinned));
   if (weight("collision") > 0)
     loss = loss + weight("collision") * collision_loss(x, s.body_positions.index_select(0, at),
                                                        s.body_normals.index_select(0, at));

@@ -9,10 +9,11 @@
 //                                                <output>/ablation.md
 //   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
 //                                                on the validation (else training) sequences
-//   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [-o report.md]
-//                                                Table I on the test sequences: LBS and each
-//                                                model (run by the runtime), all of them and
-//                                                split into seen / held-out garments
+//   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
+//                     [-o report.md]             Table I on the test sequences: LBS and each
+//                                                model (run by the runtime, at its default_top_k
+//                                                or K joints per vertex), all of them and split
+//                                                into seen / held-out garments
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -35,8 +36,8 @@ const char* kUsage =
     "       pleat-train export config.json -o model.pleat\n"
     "       pleat-train ablation config.json\n"
     "       pleat-train baseline config.json\n"
-    "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [-o "
-    "report.md]\n"
+    "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
+    "[--top-k K] [-o report.md]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -125,11 +126,15 @@ int evaluate(int argc, char** argv) {
   std::vector<std::string> models;
   std::string output;
   bool stages = false;
+  pleat::runtime::InstanceOptions options;
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
       models.push_back(argv[++i]);
     } else if (std::strcmp(argv[i], "--stages") == 0) {
       stages = true;
+    } else if (std::strcmp(argv[i], "--top-k") == 0 && i + 1 < argc) {
+      options.top_k = std::stoi(argv[++i]);
+      if (options.top_k < 1) throw std::invalid_argument("--top-k needs a count of at least 1");
     } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
       output = argv[++i];
     } else {
@@ -156,12 +161,15 @@ int evaluate(int argc, char** argv) {
         table_row("LBS (nearest body weights)", lbs);
     for (const auto& [name, model] : loaded) {
       if (stages) {
-        report += table_row(name + ", skinning stage",
-                            pleat::training::model_metrics(data, model, pleat::runtime::Stage::skinning));
-        report += table_row(name + ", blend-shape stage",
-                            pleat::training::model_metrics(data, model, pleat::runtime::Stage::blend_shapes));
+        report +=
+            table_row(name + ", skinning stage",
+                      pleat::training::model_metrics(data, model, pleat::runtime::Stage::skinning, options));
+        report += table_row(
+            name + ", blend-shape stage",
+            pleat::training::model_metrics(data, model, pleat::runtime::Stage::blend_shapes, options));
       }
-      report += table_row(name, pleat::training::model_metrics(data, model));
+      report += table_row(
+          name, pleat::training::model_metrics(data, model, pleat::runtime::Stage::refinement, options));
     }
   };
   section("Test split", c.test);
