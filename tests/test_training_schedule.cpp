@@ -112,10 +112,12 @@ TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureAndSmo
   for (size_t i = 0; i < paper.phases.size(); ++i) {
     const Phase &p = paper.phases[i], &d = demo.phases[i];
     EXPECT_EQ(d.name, p.name);
-    // The paper's weights, plus pleat's curvature term (decision 0005) and
-    // skinning smoothness (decision 0006) from the first phase on.
+    // The paper's weights, plus pleat's curvature term (decision 0005),
+    // skinning smoothness (decision 0006) and offset smoothness (decision
+    // 0007) from the first phase on.
     LossWeights expected = p.weights;
-    if (i == 0) expected["curvature"] = 5, expected["skinning_smoothness"] = 10;
+    if (i == 0)
+      expected["curvature"] = 25, expected["skinning_smoothness"] = 50, expected["offset_smoothness"] = 20;
     EXPECT_EQ(d.weights, expected) << p.name;
     EXPECT_EQ(d.scale_supervised, p.scale_supervised) << p.name;
     EXPECT_EQ(d.freeze_encoders, p.freeze_encoders) << p.name;
