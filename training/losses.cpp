@@ -68,11 +68,12 @@ GarmentGeometry::GarmentGeometry(const Garment& garment, double density) {
   const Triangles& t = garment.rest.triangles;
   rest = torch::from_blob(const_cast<double*>(v.data()), {v.rows(), 3}, torch::kFloat64).to(torch::kFloat32);
   std::vector<int64_t> e;
-  for (const Edge& edge : garment.edges) e.insert(e.end(), {edge.a, edge.b});
-  edges = long_tensor(e, 2);
   std::vector<float> length;
-  for (const Edge& edge : garment.edges)
+  for (const Edge& edge : garment.edges) {
+    e.insert(e.end(), {edge.a, edge.b});
     length.push_back(static_cast<float>((v.row(edge.a) - v.row(edge.b)).norm()));
+  }
+  edges = long_tensor(e, 2);
   edge_lengths = torch::tensor(length);
   std::vector<int64_t> tri(t.data(), t.data() + t.size());
   triangles = long_tensor(tri, 3);

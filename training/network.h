@@ -60,8 +60,7 @@ struct NetworkOutput {
   torch::Tensor positions;  // B x N x 3: the requested stage's result
   torch::Tensor skinned;    // B x N x 3: M̃ (blend shapes included when run)
   torch::Tensor weights;    // B x N x S: skinning weights
-  torch::Tensor
-      blend;  // B x N x 3: blend_scale B^t, the rest-space offsets (undefined at the skinning stage)
+  torch::Tensor blend;      // B x N x 3: blend_scale B^t in rest space; undefined at the skinning stage
 };
 
 class NetworkImpl : public torch::nn::Module {
