@@ -165,6 +165,7 @@ TEST(CapiModel, InitialisedModelDescribesItselfAndRoundTripsThroughAFile) {
   EXPECT_EQ(info.format_version, 1u) << "uses nothing of format version 2";
   EXPECT_DOUBLE_EQ(info.frame_rate, 30.0);
   EXPECT_GT(info.parameter_count, 100000u);
+  EXPECT_EQ(info.offset_filter_length, 0.0) << "the paper's form: no offset filter";
   EXPECT_STREQ(pleat_model_joint_name(model.get(), 2), "arm");
   EXPECT_EQ(pleat_model_joint_name(model.get(), 3), nullptr);
   EXPECT_EQ(pleat_model_joint_name(nullptr, 0), nullptr);

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -45,7 +46,7 @@ uint64_t env_or(const char* name, uint64_t fallback) {
 // A small but complete model: one parse takes microseconds. Every optional
 // part the writer knows (normalisations, training metrics) is present so the
 // mutations reach its reader too.
-std::vector<uint8_t> small_model_bytes(int32_t body_vertex_stride = 1) {
+std::vector<uint8_t> small_model_bytes(int32_t body_vertex_stride = 1, float offset_filter_length = 0.0f) {
   ModelSkeleton skeleton;
   skeleton.joint_names = {"hips", "spine", "arm"};
   skeleton.parents = {-1, 0, 1};
@@ -61,6 +62,7 @@ std::vector<uint8_t> small_model_bytes(int32_t body_vertex_stride = 1) {
   o.refinement_widths = {4, 3};
   o.created = "2024-01-01T00:00:00Z";
   o.body_vertex_stride = body_vertex_stride;
+  o.offset_filter_length = offset_filter_length;
   std::shared_ptr<Model> m = initialize_model(skeleton, shape, o);
 
   const auto norm = [](Index width) {
@@ -426,6 +428,21 @@ TEST(ModelFuzz, BodyVertexStrideIsWrittenAsFormatVersionTwo) {
     auto* table = flatbuffers::GetMutableRoot<flatbuffers::Table>(bytes.data());
     ASSERT_TRUE(table->SetField<int32_t>(fb::Model::VT_BODY_VERTEX_STRIDE, bad, 1));
     expect_refused(bytes, PLEAT_ERROR_FORMAT, "body_vertex_stride is " + std::to_string(bad));
+  }
+}
+
+// A reader of version 2 or older would skip the filter.
+TEST(ModelFuzz, OffsetFilterLengthIsWrittenAsFormatVersionThree) {
+  const std::vector<uint8_t> filtered = small_model_bytes(8, 0.01f);
+  EXPECT_EQ(fb::GetModel(filtered.data())->format_version(), 3u);
+  EXPECT_EQ(deserialize_model(filtered.data(), filtered.size(), "filtered")->offset_filter_length, 0.01f);
+  expect_refused(with_format_version(filtered, 2), PLEAT_ERROR_FORMAT,
+                 "offset_filter_length 0.010000 needs format_version 3 (the file says 2)");
+  for (float bad : {-0.01f, kMaxOffsetFilterLength * 2, std::numeric_limits<float>::quiet_NaN()}) {
+    std::vector<uint8_t> bytes = filtered;
+    auto* table = flatbuffers::GetMutableRoot<flatbuffers::Table>(bytes.data());
+    ASSERT_TRUE(table->SetField<float>(fb::Model::VT_OFFSET_FILTER_LENGTH, bad, 0.0f));
+    expect_refused(bytes, PLEAT_ERROR_FORMAT, "offset_filter_length is");
   }
 }
 

@@ -61,7 +61,8 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
 #endif
   const Body body = pleat_test::chain_body();
 
-  // A 12 x 12 grid garment, prepared (bands), and a small model.
+  // A 12 x 12 grid garment, prepared (bands), and a small model with an
+  // offset filter.
   const int side = 12;
   Points3d v(side * side, 3);
   Triangles t(2 * (side - 1) * (side - 1), 3);
@@ -82,6 +83,7 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
   mo.code_width = 16;
   mo.body_widths = {16};
   mo.garment_widths = {16, 16};
+  mo.offset_filter_length = 0.05f;  // the filter's solves run too
   const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, mo);
 
   InstanceOptions io;

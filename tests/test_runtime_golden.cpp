@@ -5,9 +5,12 @@
 // stage, for a motion that turns, walks and bends every joint.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <set>
 #include <vector>
 
 #include "body/body.h"
@@ -252,6 +255,27 @@ Eigen::Matrix3d heading_ref(const Poses& p, int f) {
   return Eigen::AngleAxisd(std::atan2(z.x(), z.z()), Vec3::UnitY()).toRotationMatrix();
 }
 
+// (I + L)^{-1} d, L over the triangles' edges weighted by (h / length)²,
+// dense; h = 0 leaves d as it is.
+Mat filtered(const Mat& d, const Mat& rest, const Triangles& triangles, double h) {
+  if (h == 0.0) return d;
+  std::set<std::pair<int, int>> edges;
+  for (int f = 0; f < triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(f, k), b = triangles(f, (k + 1) % 3);
+      edges.insert({std::min(a, b), std::max(a, b)});
+    }
+  Mat a = Mat::Identity(rest.rows(), rest.rows());
+  for (const auto& [i, j] : edges) {
+    const double w = std::pow(h / (rest.row(i) - rest.row(j)).norm(), 2);
+    a(i, i) += w;
+    a(j, j) += w;
+    a(i, j) -= w;
+    a(j, i) -= w;
+  }
+  return a.ldlt().solve(d);
+}
+
 // All frames of the motion at `stage`, N x 3 per frame.
 std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, const Poses& p, Stage stage) {
   const int n = g.rest.vertex_count();
@@ -329,7 +353,7 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
     logits.rowwise() += m.skinning.bias.cast<double>();
     Mat offsets = stage == Stage::skinning ? Mat::Zero(n, 3) : Mat(gat(m.blend.layers[0], fused, nbrs));
     const std::vector<Eigen::Affine3d> pose_g = fk(body, p, t);
-    Mat x(n, 3);
+    Mat x(n, 3), displacement(n, 3);  // LBS of T̄, and what the blend shapes add to it
     for (int v = 0; v < n; ++v) {
       // Top 2 of the 3 joints, softmax over those two.
       int order[kJoints] = {0, 1, 2};
@@ -337,14 +361,18 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
         return logits(v, a) > logits(v, b) || (logits(v, a) == logits(v, b) && a < b);
       });
       const double e0 = 1.0, e1 = std::exp(logits(v, order[1]) - logits(v, order[0]));
-      const Vec3 shaped = rest.row(v).transpose() + m.blend_scale * offsets.row(v).transpose();
-      Vec3 sum = Vec3::Zero();
+      const Vec3 blend = m.blend_scale * offsets.row(v).transpose();
+      Vec3 sum = Vec3::Zero(), moved = Vec3::Zero();
       for (int i = 0; i < 2; ++i) {
         const int j = order[i];
-        sum += (i == 0 ? e0 : e1) / (e0 + e1) * (pose_g[j] * rest_g[j].inverse() * shaped);
+        const Eigen::Affine3d s = pose_g[j] * rest_g[j].inverse();
+        sum += (i == 0 ? e0 : e1) / (e0 + e1) * (s * Vec3(rest.row(v).transpose()));
+        moved += (i == 0 ? e0 : e1) / (e0 + e1) * (s.linear() * blend);
       }
       x.row(v) = sum.transpose();
+      displacement.row(v) = moved.transpose();
     }
+    x += filtered(displacement, rest, g.rest.triangles, m.offset_filter_length);
     skinned.push_back(x);
     if (stage != Stage::refinement) {
       out.push_back(x);
@@ -359,7 +387,8 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
       for (int j = 0; j < kJoints; ++j)
         rx(v, 6 + j) = (x.row(v).transpose() - pose_g[j].translation()).norm();
     }
-    const Mat delta = gat(m.refinement.layers[0], rx, nbrs);
+    const Mat delta =
+        filtered(gat(m.refinement.layers[0], rx, nbrs), rest, g.rest.triangles, m.offset_filter_length);
     Mat final_x = x;
     for (int v = 0; v < n; ++v)
       final_x.row(v) += m.refinement_scale * (ht * delta.row(v).transpose()).transpose();
@@ -368,9 +397,11 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
   return out;
 }
 
-void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1) {
+void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1,
+                    float offset_filter_length = 0.0f) {
   const std::shared_ptr<Model> model = tiny_model(variant);
   model->body_vertex_stride = body_vertex_stride;
+  model->offset_filter_length = offset_filter_length;
   const Body body = chain_body();
   const auto garment = sheet();
   const Poses p = motion();
@@ -410,6 +441,12 @@ TEST(RuntimeGolden, LgatModelMatchesIndependentReference) {
 // The body code pools over vertices 0, 2, 4 of the 5-vertex body.
 TEST(RuntimeGolden, BodyVertexStrideMatchesIndependentReference) {
   expect_matches(nn::AttentionVariant::flexigat, 2);
+}
+
+// h = 0.1 m weighs the sheet's 0.14–0.2 m edges at 0.25–0.5: the filter
+// changes every offset.
+TEST(RuntimeGolden, OffsetFilterMatchesIndependentReference) {
+  expect_matches(nn::AttentionVariant::flexigat, 1, 0.1f);
 }
 
 // The encoder's input rows are body vertices 0, 2, 4 with a stride of 2 (the

@@ -62,6 +62,10 @@ void print_model_info(const pleat_model* model) {
   std::printf("code width          %u\n", i.code_width);
   std::printf("default top-k       %u\n", i.default_top_k);
   std::printf("parameters          %llu\n", static_cast<unsigned long long>(i.parameter_count));
+  if (i.offset_filter_length > 0.0)
+    std::printf("offset filter       h = %g cm\n", i.offset_filter_length * 100.0);
+  else
+    std::printf("offset filter       none\n");
 }
 
 int run_init_model(const Args& args) {

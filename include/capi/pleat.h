@@ -276,6 +276,7 @@ typedef struct pleat_model_info {
   uint32_t code_width;     /* width of the fused code F */
   double frame_rate;       /* poses must come at this rate */
   uint64_t parameter_count;
+  double offset_filter_length; /* metres: h of the offset filter (docs/runtime.md); 0 = none */
 } pleat_model_info;
 
 /* The paper's initialisation for a skeleton (pleat_model_initialize). */

@@ -98,6 +98,7 @@ pleat_status pleat_model_get_info(const pleat_model* model, pleat_model_info* ou
     info.code_width = static_cast<uint32_t>(m.code_width());
     info.frame_rate = m.frame_rate;
     info.parameter_count = static_cast<uint64_t>(runtime::parameter_count(m));
+    info.offset_filter_length = m.offset_filter_length;
     write_result(info, out_info, "out_info");
   });
 }

@@ -122,6 +122,8 @@ std::unique_ptr<Binding> bind_inputs(const Model& m, const Garment& g, const Bod
   }
   b->graph = nn::attention_graph(g.graph);
   b->rest = g.rest.vertices.cast<float>();
+  if (m.offset_filter_length > 0.0f)
+    b->offset_filter = std::make_unique<OffsetFilter>(g, m.offset_filter_length);
   return b;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // What binding a model to a garment and a body derives before any network
 // runs (docs/runtime.md, "Binding"): the joint map, the rest joints J(β), the
-// normalised inputs of the body and garment encoders, the skinning prior and
-// the attention graph. The Instance runs the encoders on them once; the
+// normalised inputs of the body and garment encoders, the skinning prior, the
+// attention graph and the offset filter. The Instance runs the encoders on them once; the
 // trainer runs them every step (their weights learn) from the same inputs.
 #include <cstdint>
 #include <memory>
@@ -13,6 +13,7 @@
 #include "core/garment.h"
 #include "nn/graph_attention.h"
 #include "runtime/model.h"
+#include "runtime/offset_filter.h"
 
 namespace pleat::runtime {
 
@@ -26,6 +27,7 @@ struct Binding {
   nn::MatrixRM prior;                  // N x S: skinning_prior * log(w + 1e-6); empty without a prior
   nn::AttentionGraph graph;            // mesh edges + self loops
   nn::MatrixRM rest;                   // N x 3: T̄ (float)
+  std::unique_ptr<OffsetFilter> offset_filter;  // null when the model's offset_filter_length is 0
 };
 
 // Throws PLEAT_ERROR_INVALID_ARGUMENT when the body cannot drive the model:

@@ -261,29 +261,39 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
                     joints_out + static_cast<size_t>(v) * k);
   });
   if (blend) run_stack(m.blend, binding->graph, fused_static, offsets, stacks, *executor, &blend_first);
+  // M̃ = M [T̄; 1] + M [blend_scale B; 0] with M = Σ w_k S_k (3 x 4): the
+  // blend shapes' posed displacement is the second term, and the offset
+  // filter smooths that (posed, where the skinning weights have mixed in).
   MatrixRM& out = skinned[slot];
+  const bool filter = blend && binding->offset_filter;
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
-      const MatrixRM& rest = binding->rest;
-      float x = rest(v, 0), y = rest(v, 1), z = rest(v, 2);
-      if (blend) {
-        x += m.blend_scale * offsets(v, 0);
-        y += m.blend_scale * offsets(v, 1);
-        z += m.blend_scale * offsets(v, 2);
-      }
-      float px = 0.0f, py = 0.0f, pz = 0.0f;
+      float s[12] = {};
       for (int32_t i = 0; i < k; ++i) {
         const float w = weights_out[static_cast<size_t>(v) * k + i];
-        const float* s = skin.row(joints_out[static_cast<size_t>(v) * k + i]).data();
-        px += w * (s[0] * x + s[1] * y + s[2] * z + s[3]);
-        py += w * (s[4] * x + s[5] * y + s[6] * z + s[7]);
-        pz += w * (s[8] * x + s[9] * y + s[10] * z + s[11]);
+        const float* joint = skin.row(joints_out[static_cast<size_t>(v) * k + i]).data();
+        for (int c = 0; c < 12; ++c) s[c] += w * joint[c];
       }
-      out(v, 0) = px;
-      out(v, 1) = py;
-      out(v, 2) = pz;
+      const float x = binding->rest(v, 0), y = binding->rest(v, 1), z = binding->rest(v, 2);
+      out(v, 0) = s[0] * x + s[1] * y + s[2] * z + s[3];
+      out(v, 1) = s[4] * x + s[5] * y + s[6] * z + s[7];
+      out(v, 2) = s[8] * x + s[9] * y + s[10] * z + s[11];
+      if (!blend) continue;
+      const float bx = m.blend_scale * offsets(v, 0), by = m.blend_scale * offsets(v, 1),
+                  bz = m.blend_scale * offsets(v, 2);
+      const float dx = s[0] * bx + s[1] * by + s[2] * bz, dy = s[4] * bx + s[5] * by + s[6] * bz,
+                  dz = s[8] * bx + s[9] * by + s[10] * bz;
+      if (filter) {  // kept apart until the filter has run
+        offsets(v, 0) = dx, offsets(v, 1) = dy, offsets(v, 2) = dz;
+      } else {
+        out(v, 0) += dx, out(v, 1) += dy, out(v, 2) += dz;
+      }
     }
   });
+  if (filter) {
+    binding->offset_filter->apply(offsets.data(), 1);
+    out += offsets;
+  }
 }
 
 // M^t = M̃^t + refinement_scale * H_t Δ^t into `out` (N x 3), from
@@ -307,6 +317,7 @@ void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const M
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });
   run_stack(m.refinement, binding->graph, refinement_in, offsets, stacks, *executor);
+  if (binding->offset_filter) binding->offset_filter->apply(offsets.data(), 1);
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
       const Eigen::Vector3f delta = heading * offsets.row(v).transpose();

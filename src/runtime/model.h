@@ -12,6 +12,9 @@
 //   blend       T^t = T̄ + blend_scale · blend(F^t)
 //   skinning    M̃^t = LBS(T^t, joint transforms of frame t, W^t)
 //   refinement  M^t = M̃^t + refinement_scale · refinement(features of M̃^t)
+// With offset_filter_length h > 0, what the blend shapes add to the skinned
+// garment (LBS(T^t) − LBS(T̄)) and the refinement's displacement pass through
+// the garment's offset filter (I + L_h)^{-1} (runtime/offset_filter.h).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -135,6 +138,10 @@ struct Model {
   float blend_scale = 1.0f;
   GraphStack refinement;  // refinement features -> 3
   float refinement_scale = 1.0f;
+  // h, metres: the posed displacements of the blend shapes and of the
+  // refinement pass through the garment's offset filter
+  // (runtime/offset_filter.h); 0 = none.
+  float offset_filter_length = 0.0f;
 
   ModelBands bands;
   TrainingInfo training;

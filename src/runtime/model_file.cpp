@@ -409,17 +409,18 @@ std::vector<uint8_t> serialize_model(const Model& m) {
   auto training = write_training(b, m.training);
   auto generator = b.CreateString("pleat " PLEAT_VERSION_STRING);
 
-  auto root = fb::CreateModel(b, model_format_version(m), generator, skeleton, shape, m.frame_rate,
-                              m.window_frames, static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k,
-                              body_features, body_normalization, body_encoder, body_pool,
-                              body_pool_activation, garment_encoder, motion_features, motion_normalization,
-                              motion_encoder, skinning, m.skinning_prior, blend, m.blend_scale, refinement,
-                              m.refinement_scale, bands, training, m.body_vertex_stride);
+  auto root = fb::CreateModel(
+      b, model_format_version(m), generator, skeleton, shape, m.frame_rate, m.window_frames,
+      static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k, body_features, body_normalization,
+      body_encoder, body_pool, body_pool_activation, garment_encoder, motion_features, motion_normalization,
+      motion_encoder, skinning, m.skinning_prior, blend, m.blend_scale, refinement, m.refinement_scale, bands,
+      training, m.body_vertex_stride, m.offset_filter_length);
   fb::FinishModelBuffer(b, root);
   return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }
 
 uint32_t model_format_version(const Model& model) {
+  if (model.offset_filter_length > 0.0f) return 3;
   return model.body_vertex_stride > 1 ? 2 : 1;
 }
 
@@ -492,6 +493,10 @@ std::shared_ptr<Model> deserialize_model(const uint8_t* data, size_t size, const
   m->blend_scale = root.blend_scale();
   m->refinement = r.graph_stack(root.refinement(), "refinement");
   m->refinement_scale = root.refinement_scale();
+  m->offset_filter_length = root.offset_filter_length();
+  if (m->offset_filter_length != 0.0f && root.format_version() < 3)
+    r.bad("offset_filter_length " + std::to_string(m->offset_filter_length) +
+          " needs format_version 3 (the file says " + std::to_string(root.format_version()) + ")");
   read_metadata(r, root, m.get());
   validate_model(*m);
   return m;

@@ -155,6 +155,9 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   if (o.body_vertex_stride < 1 || o.body_vertex_stride > kMaxBodyVertexStride)
     bad_option("body_vertex_stride is " + std::to_string(o.body_vertex_stride) + ", expected 1.." +
                std::to_string(kMaxBodyVertexStride));
+  if (!(o.offset_filter_length >= 0.0f && o.offset_filter_length <= kMaxOffsetFilterLength))
+    bad_option("offset_filter_length is " + std::to_string(o.offset_filter_length) + ", expected 0.." +
+               std::to_string(kMaxOffsetFilterLength) + " m");
   check_widths(o.garment_widths, "garment_widths", o.heads, o.code_width);
   check_widths(o.blend_widths, "blend_widths", o.heads, 3);
   check_widths(o.refinement_widths, "refinement_widths", o.heads, 3);
@@ -173,6 +176,7 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   m->refinement_scale = o.refinement_scale;
   m->skinning_prior = o.skinning_prior;
   m->body_vertex_stride = o.body_vertex_stride;
+  m->offset_filter_length = o.offset_filter_length;
   m->body_features = {Feature::shape, Feature::rest_joint_distances};
   m->motion_features = {Feature::joint_rotations_6d, Feature::root_velocity};
 

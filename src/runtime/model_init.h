@@ -37,6 +37,9 @@ struct ModelInitOptions {
   // untrained model skins like the body, training learns what differs.
   float skinning_prior = 1.0f;
   float refinement_scale = 0.01f;
+  // h of the offset filter on the posed displacements, metres
+  // (runtime/offset_filter.h); 0 = none, the paper's form.
+  float offset_filter_length = 0.0f;
   std::string created;  // ISO 8601 stamp for the metadata; empty keeps the bytes reproducible
 };
 

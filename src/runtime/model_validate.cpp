@@ -104,6 +104,10 @@ void check_scalars(const Checker& c, const Model& m) {
   if (!(std::isfinite(m.skinning_prior) && m.skinning_prior >= 0.0f))
     c.bad("skinning_prior is " + std::to_string(m.skinning_prior) + ", expected a finite value >= 0");
   c.finite(m.refinement_scale, "refinement_scale");
+  if (!(std::isfinite(m.offset_filter_length) && m.offset_filter_length >= 0.0f &&
+        m.offset_filter_length <= kMaxOffsetFilterLength))
+    c.bad("offset_filter_length is " + std::to_string(m.offset_filter_length) + ", expected 0.." +
+          std::to_string(kMaxOffsetFilterLength) + " m");
   const ModelBands& b = m.bands;
   if (!(b.low_fraction > 0.0 && b.low_fraction <= b.mid_fraction && b.mid_fraction <= 1.0))
     c.bad("bands fractions low " + std::to_string(b.low_fraction) + " / mid " +

@@ -183,7 +183,8 @@ PIN(pleat_model_info, default_top_k, 24);
 PIN(pleat_model_info, code_width, 28);
 PIN(pleat_model_info, frame_rate, 32);
 PIN(pleat_model_info, parameter_count, 40);
-SIZE(pleat_model_info, 48);
+PIN(pleat_model_info, offset_filter_length, 48);
+SIZE(pleat_model_info, 56);
 
 PIN(pleat_model_init_options, struct_size, 0);
 PIN(pleat_model_init_options, variant, 4);
