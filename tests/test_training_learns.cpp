@@ -114,6 +114,10 @@ TEST(TrainingLearns, ResumedRunContinuesExactly) {
   strided.model.body_vertex_stride = 2;
   pleat_test::expect_error([&] { Trainer third(strided); }, PLEAT_ERROR_FORMAT,
                            "was trained with body_vertex_stride 1, the config asks for 2");
+  TrainerConfig filtered = config(data, root + "/resumed", 4);
+  filtered.model.offset_filter_length = 0.25f;
+  pleat_test::expect_error([&] { Trainer fourth(filtered); }, PLEAT_ERROR_FORMAT,
+                           "was trained with offset_filter_length 0, the config asks for 0.25");
 }
 
 TEST(TrainingLearns, EpochBatchesMixSequencesAndCoverEveryFrameOnce) {

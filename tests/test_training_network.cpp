@@ -15,6 +15,7 @@
 #include "io/bvh.h"
 #include "io/mesh_import.h"
 #include "network.h"
+#include "offset_filter_op.h"
 #include "runtime/instance.h"
 #include "runtime/model_file.h"
 #include "runtime/model_init.h"
@@ -135,10 +136,14 @@ TEST(TrainingNetwork, FreshModelMatchesTheRuntime) {
   }
 }
 
+// With an offset filter (h = 0.1 m against 8.6 cm edges): training runs
+// through its backward, and the file keeps h.
 TEST(TrainingNetwork, TrainedAndExportedModelMatchesTheRuntime) {
   const Body body = pleat_test::chain_body();
   const auto garment = grid_garment(8);
-  const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, small_options());
+  ModelInitOptions options = small_options();
+  options.offset_filter_length = 0.1f;
+  const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, options);
   training::Network network(*model);
   training::BoundGarment bound(*model, garment, body);
   const Clip clip = turning_clip(9);
@@ -163,7 +168,46 @@ TEST(TrainingNetwork, TrainedAndExportedModelMatchesTheRuntime) {
   const std::string path = pleat_test::temp_dir("training_network") + "/trained.pleat";
   save_model(*network->to_model(), path);
   const std::shared_ptr<const Model> loaded = load_model_file(path);
+  EXPECT_EQ(loaded->offset_filter_length, 0.1f);
   EXPECT_LT(parity(loaded, network, garment, body, clip, {0, 4, 8}), 1e-4);
+}
+
+// x = A^{-1} d with A = I + L symmetric: the op's forward and its gradient
+// of <x, g> (A^{-1} g) against a dense solve of A assembled here.
+TEST(TrainingNetwork, OffsetFilterOpAndItsGradientMatchADenseSolve) {
+  const auto garment = grid_garment(5);
+  const double h = 0.2;
+  const runtime::OffsetFilter filter(*garment, h);
+  const int64_t n = garment->rest.vertex_count();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Identity(n, n);
+  for (const Edge& e : garment->edges) {
+    const double w =
+        std::pow(h / (garment->rest.vertices.row(e.a) - garment->rest.vertices.row(e.b)).norm(), 2);
+    a(e.a, e.a) += w;
+    a(e.b, e.b) += w;
+    a(e.a, e.b) -= w;
+    a(e.b, e.a) -= w;
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> solver(a);
+  torch::manual_seed(3);
+  const torch::Tensor d = torch::randn({2, n, 3}).requires_grad_(true), g = torch::randn({2, n, 3});
+  const torch::Tensor x = training::filter_offsets(d, filter);
+  (x * g).sum().backward();
+  const auto dense_solve = [&](const torch::Tensor& t, int64_t frame) {
+    Eigen::MatrixXd rhs(n, 3);
+    for (int64_t v = 0; v < n; ++v)
+      for (int64_t c = 0; c < 3; ++c) rhs(v, c) = t[frame][v][c].item<float>();
+    return Eigen::MatrixXd(solver.solve(rhs));
+  };
+  for (int64_t f = 0; f < 2; ++f) {
+    const Eigen::MatrixXd want_x = dense_solve(d.detach(), f), want_grad = dense_solve(g, f);
+    for (int64_t v = 0; v < n; ++v)
+      for (int64_t c = 0; c < 3; ++c) {
+        EXPECT_NEAR(x[f][v][c].item<float>(), want_x(v, c), 1e-5);
+        EXPECT_NEAR(d.grad()[f][v][c].item<float>(), want_grad(v, c), 1e-5);
+      }
+  }
+  EXPECT_GT((x - d).abs().max().item<float>(), 0.1f) << "the filter changes the field";
 }
 
 TEST(TrainingNetwork, MakeHumanDressAtTheFullArchitectureMatchesTheRuntime) {

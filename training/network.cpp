@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "offset_filter_op.h"
 
 namespace pleat::training {
 
@@ -168,15 +169,22 @@ NetworkOutput NetworkImpl::forward(const BoundGarment& bound, const runtime::Pos
   torch::Tensor logits = torch::matmul(fused, skinning_weight_) + skinning_bias_;
   if (bound.prior.defined()) logits = logits + bound.prior;
   const torch::Tensor weights = torch::softmax(logits, -1);  // K x N x S
-  torch::Tensor shaped = bound.rest.unsqueeze(0).expand({k, n, 3}), blend;
+  // M̃ = M [T̄; 1] + M [B; 0] with M = Σ w_k S_k: the second term is the blend
+  // shapes' posed displacement, which the offset filter smooths (runtime's order).
+  const torch::Tensor blended = torch::bmm(weights, in.skin).view({k, n, 3, 4});
+  const torch::Tensor rotation = blended.narrow(3, 0, 3);
+  torch::Tensor skinned =
+      torch::matmul(rotation, bound.rest.unsqueeze(0).expand({k, n, 3}).unsqueeze(-1)).squeeze(-1) +
+      blended.select(3, 3);
+  torch::Tensor blend;
   if (stage != runtime::Stage::skinning) {
     blend = spec_.blend_scale *
             stack(blend_, fused.reshape({k * n, fused.size(2)}), bound.graph(k)).view({k, n, 3});
-    shaped = shaped + blend;
+    torch::Tensor displacement = torch::matmul(rotation, blend.unsqueeze(-1)).squeeze(-1);
+    if (bound.binding().offset_filter)
+      displacement = filter_offsets(displacement, *bound.binding().offset_filter);
+    skinned = skinned + displacement;
   }
-  const torch::Tensor blended = torch::bmm(weights, in.skin).view({k, n, 3, 4});
-  const torch::Tensor skinned =
-      torch::matmul(blended.narrow(3, 0, 3), shaped.unsqueeze(-1)).squeeze(-1) + blended.select(3, 3);
 
   NetworkOutput out;
   out.skinned = skinned.narrow(0, 0, b);
@@ -206,8 +214,8 @@ NetworkOutput NetworkImpl::forward(const BoundGarment& bound, const runtime::Pos
   if (!spec_.refinement.normalization.empty())
     x = (x - to_tensor(spec_.refinement.normalization.shift)) *
         to_tensor(spec_.refinement.normalization.scale);
-  const torch::Tensor delta =
-      stack(refinement_, x.reshape({b * n, x.size(2)}), bound.graph(b)).view({b, n, 3});
+  torch::Tensor delta = stack(refinement_, x.reshape({b * n, x.size(2)}), bound.graph(b)).view({b, n, 3});
+  if (bound.binding().offset_filter) delta = filter_offsets(delta, *bound.binding().offset_filter);
   out.positions = current + spec_.refinement_scale * torch::bmm(delta, heading.transpose(1, 2));
   return out;
 }

@@ -135,6 +135,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
       c.model.garment_widths = m.value("garment_widths", c.model.garment_widths);
       c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
       c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);
+      c.model.offset_filter_length = m.value("offset_filter_length", c.model.offset_filter_length);
     }
   } catch (const Json::exception& e) {
     bad_config(path, e.what());
@@ -358,6 +359,7 @@ void Trainer::save_checkpoint() const {
   const Json meta = {{"epoch", epoch_},
                      {"parameters", network_->parameters().size()},
                      {"body_vertex_stride", config_.model.body_vertex_stride},
+                     {"offset_filter_length", config_.model.offset_filter_length},
                      {"best_epoch", best_epoch_},
                      {"best_ratio", best_ratio_},
                      {"best_validation", metrics_json(best_validation_)},
@@ -383,12 +385,17 @@ bool Trainer::load_checkpoint() {
   std::vector<torch::Tensor> parameters = network_->parameters();
   if (meta.at("parameters").get<size_t>() != parameters.size() || tensors.size() < parameters.size())
     fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was made for another architecture");
-  // Same tensors, another body code: the parameter count cannot tell.
-  const int32_t stride = meta.value("body_vertex_stride", 1);
-  if (stride != config_.model.body_vertex_stride)
-    fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was trained with body_vertex_stride " +
-                                 std::to_string(stride) + ", the config asks for " +
-                                 std::to_string(config_.model.body_vertex_stride));
+  // Same tensors, another network: the parameter count cannot tell.
+  const auto same_setting = [&](const char* key, double trained, double asked) {
+    if (trained == asked) return;
+    std::ostringstream message;
+    message << "checkpoint '" << base << "' was trained with " << key << " " << trained
+            << ", the config asks for " << asked;
+    fail(PLEAT_ERROR_FORMAT, message.str());
+  };
+  same_setting("body_vertex_stride", meta.value("body_vertex_stride", 1), config_.model.body_vertex_stride);
+  same_setting("offset_filter_length", meta.value("offset_filter_length", 0.0f),
+               config_.model.offset_filter_length);
   {
     torch::NoGradGuard no_grad;
     for (size_t i = 0; i < parameters.size(); ++i) parameters[i].copy_(tensors[i]);
