@@ -168,5 +168,32 @@ int main(int argc, char** argv) {
       }
     }
   }
+
+  // What two model settings cost on top of the full stage: top-8 skinning
+  // (decision 0007) and the offset filter (decision 0008), one thread,
+  // ratios to the plain model measured in the same run.
+  std::shared_ptr<const Garment> garment = skirt(64, 64, hips);
+  std::printf("\nmodel settings, full stage, N = %d, 1 thread, batch of 8\n", garment->rest.vertex_count());
+  std::printf("%-28s %9s %7s\n", "setting", "ms/frame", "ratio");
+  double plain = 0.0;
+  for (auto [name, top_k, h] : {std::tuple<const char*, int, float>{"top-4, no filter", 4, 0.0f},
+                                {"top-8, no filter", 8, 0.0f},
+                                {"top-4, filter h 1 cm", 4, 0.01f},
+                                {"top-8, filter h 1 cm", 8, 0.01f}}) {
+    auto variant = std::make_shared<Model>(*model);
+    variant->default_top_k = top_k;
+    variant->offset_filter_length = h;
+    InstanceOptions options;
+    options.max_batch = 8;
+    Instance instance(variant, garment, body, options);
+    std::vector<float> out(size_t(8) * instance.vertex_count() * 3);
+    EvaluateOutputs outputs;
+    outputs.positions = {out.data(), size_t(instance.vertex_count()) * 3};
+    const double t = pleat_bench::median_seconds(
+                         [&] { instance.evaluate(poses, frames - 8, 8, Stage::refinement, outputs); }, reps) /
+                     8.0;
+    if (plain == 0.0) plain = t;
+    std::printf("%-28s %9.3f %7.3f\n", name, t * 1e3, t / plain);
+  }
   return 0;
 }
