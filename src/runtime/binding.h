@@ -2,8 +2,9 @@
 // What binding a model to a garment and a body derives before any network
 // runs (docs/runtime.md, "Binding"): the joint map, the rest joints J(β), the
 // normalised inputs of the body and garment encoders, the skinning prior, the
-// attention graph and the offset filter. The Instance runs the encoders on them once; the
-// trainer runs them every step (their weights learn) from the same inputs.
+// attention graph and the offset filter. The Instance runs the encoders on
+// them once; the trainer runs them every step (their weights learn) from the
+// same inputs.
 #include <cstdint>
 #include <memory>
 #include <string>

@@ -121,7 +121,7 @@ struct Instance::State {
   MatrixRM skinning_q;                  // C x S
   nn::GraphAttentionLayer blend_first;  // model.blend.layers[0] with folded scaled by q^t
   MatrixRM logits;                      // N x S
-  MatrixRM offsets;                     // N x 3: blend shapes or refinement
+  MatrixRM offsets;                     // N x 3: blend shapes, their posed displacement, or refinement
   MatrixRM skinned[2];                  // N x 3: M̃ of the current and the previous frame
   MatrixRM normals;                     // N x 3
   MatrixRM refinement_in;               // N x refinement input
