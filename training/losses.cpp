@@ -125,8 +125,10 @@ GarmentGeometry::GarmentGeometry(const Garment& garment, double density) {
       inverse_area.push_back(1.0 / garment.vertex_areas[static_cast<Eigen::Index>(i)]);
     }
   interior = torch::tensor(inner, torch::kInt64);
-  curvature_weight = torch::tensor(inverse_area, torch::kFloat64);
-  if (!inverse_area.empty()) curvature_weight = curvature_weight / curvature_weight.mean();
+  // 1/A against a fixed reference area, not each garment's mean: E_curv
+  // pools K = defect / (A/3) over every garment, so a garment of millimetre
+  // faces weighs in it in proportion to its 1/A, and so it must in the loss.
+  curvature_weight = torch::tensor(inverse_area, torch::kFloat64) * kCurvatureReferenceArea;
   curvature_weight = curvature_weight.to(torch::kFloat32);
   if (garment.prepared) geodesic = garment.prepared->geodesic;
 }

@@ -13,6 +13,11 @@
 
 namespace pleat::training {
 
+// The curvature loss weighs a vertex by this area over its own (m^2): about a
+// vertex's area at the 2-3 cm edges of the MakeHuman garments, so their weights
+// are near 1 and curvature's k keeps its scale.
+inline constexpr double kCurvatureReferenceArea = 3e-4;
+
 // Everything the losses need from the rest garment, as tensors.
 struct GarmentGeometry {
   explicit GarmentGeometry(const Garment& garment, double density = 0.15 /* kg/m², cotton */);
@@ -27,7 +32,7 @@ struct GarmentGeometry {
   torch::Tensor hinge_rest;    // H: rest dihedral angle
   torch::Tensor hinge_weight;  // H: 3 |e|² / (A1 + A2) (discrete shells)
   torch::Tensor interior;      // I (int64): vertices with a closed fan, where E_curv is measured
-  torch::Tensor curvature_weight;  // I: 1 / rest vertex area, divided by its mean (curvature_loss)
+  torch::Tensor curvature_weight;  // I: kCurvatureReferenceArea / rest vertex area (curvature_loss)
   torch::Tensor edge_lengths;      // E: rest length of each edge
   Csr geodesic;                    // rest geodesic neighbourhoods (prepared garment; empty otherwise)
 };
