@@ -114,7 +114,7 @@ std::string model_label(const std::string& path, const std::vector<std::string>&
 
 std::string table_row(const std::string& name, const pleat::MetricsResult& m) {
   char row[512];
-  std::snprintf(row, sizeof row, "| %s | %.3f | %.2f | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+  std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
                 name.c_str(), m.e_verts_cm, m.e_vnorm_deg, m.e_fnorm_deg, m.e_edge_percent, m.e_curv,
                 m.e_low_cm, m.e_mid_cm, m.e_high_cm, m.self_collision_percent);
   return row;
