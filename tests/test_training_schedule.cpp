@@ -104,7 +104,7 @@ TEST(TrainingSchedule, RefusesBadFilesNamingFileAndPhase) {
   expect_refused(R"({"phases": [{}, {"advance": {"soon": true}}]})", "phase 1: unknown advance condition");
 }
 
-TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureAndSmoothness) {
+TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureSmoothnessAndMidBand) {
   const Schedule paper = read_schedule(schedule_file("paper.json"));
   const Schedule demo = read_schedule(schedule_file("demo.json"));
   ASSERT_EQ(paper.phases.size(), 5u);
@@ -113,11 +113,15 @@ TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureAndSmo
     const Phase &p = paper.phases[i], &d = demo.phases[i];
     EXPECT_EQ(d.name, p.name);
     // The paper's weights, plus pleat's curvature term (decision 0005),
-    // skinning smoothness (decision 0006) and offset smoothness (decision
-    // 0007) from the first phase on.
+    // skinning smoothness (decision 0006) and offset smoothness (decisions
+    // 0007, 0009) from the first phase on, and a stronger mid band (decision
+    // 0009).
     LossWeights expected = p.weights;
-    if (i == 0)
-      expected["curvature"] = 25, expected["skinning_smoothness"] = 50, expected["offset_smoothness"] = 20;
+    if (i == 0) {
+      EXPECT_EQ(p.weights.at("k_mid"), 2) << "the paper's mid-band weight";
+      expected["k_mid"] = 8, expected["curvature"] = 25, expected["skinning_smoothness"] = 50,
+      expected["offset_smoothness"] = 10;
+    }
     EXPECT_EQ(d.weights, expected) << p.name;
     EXPECT_EQ(d.scale_supervised, p.scale_supervised) << p.name;
     EXPECT_EQ(d.freeze_encoders, p.freeze_encoders) << p.name;
