@@ -117,19 +117,20 @@ GarmentGeometry::GarmentGeometry(const Garment& garment, double density) {
   hinge_weight = torch::tensor(weight);
   hinge_rest = hinges.size(0) ? dihedral(rest, hinges) : torch::zeros({0});
   std::vector<int64_t> inner;
-  std::vector<double> inverse_area;
-  const std::vector<uint8_t> mask = interior_vertex_mask(t, static_cast<int32_t>(v.rows()));
-  for (size_t i = 0; i < mask.size(); ++i)
-    if (mask[i] && garment.vertex_areas[static_cast<Eigen::Index>(i)] > 0.0) {
-      inner.push_back(static_cast<int64_t>(i));
-      inverse_area.push_back(1.0 / garment.vertex_areas[static_cast<Eigen::Index>(i)]);
-    }
-  interior = torch::tensor(inner, torch::kInt64);
   // 1/A against a fixed reference area, not each garment's mean: E_curv
   // pools K = defect / (A/3) over every garment, so a garment of millimetre
   // faces weighs in it in proportion to its 1/A, and so it must in the loss.
-  curvature_weight = torch::tensor(inverse_area, torch::kFloat64) * kCurvatureReferenceArea;
-  curvature_weight = curvature_weight.to(torch::kFloat32);
+  std::vector<float> curvature;
+  const std::vector<uint8_t> mask = interior_vertex_mask(t, static_cast<int32_t>(v.rows()));
+  for (size_t i = 0; i < mask.size(); ++i) {
+    const double area = garment.vertex_areas[static_cast<Eigen::Index>(i)];
+    if (mask[i] && area > 0.0) {
+      inner.push_back(static_cast<int64_t>(i));
+      curvature.push_back(static_cast<float>(1.0 / area * kCurvatureReferenceArea));
+    }
+  }
+  interior = torch::tensor(inner, torch::kInt64);
+  curvature_weight = torch::tensor(curvature);
   if (garment.prepared) geodesic = garment.prepared->geodesic;
 }
 
