@@ -76,17 +76,25 @@ std::vector<Job> plan_jobs(const Config& config, const std::vector<int64_t>& mot
                " clips give no segment of at least " + std::to_string(config.min_segment_frames) + " frames");
     // Sequence i takes pair i mod P and segment (i + i / P) mod S: with that
     // shift a pair meets new segments on every round even when P divides S.
+    // The stride can cycle through part of the pool only (with one pair it is
+    // 2i mod S), so a second pass takes the combinations it missed, in order;
+    // plans the first pass fills alone are unchanged.
     const int64_t combinations = static_cast<int64_t>(pairs.size() * pool.size());
     const int64_t p = static_cast<int64_t>(pairs.size()), s = static_cast<int64_t>(pool.size());
+    const int64_t target = std::min(wanted, combinations);
     int64_t made = 0;
-    for (int64_t i = 0; made < std::min(wanted, combinations) && i < combinations * 2; ++i) {
-      const auto [g, b] = pairs[static_cast<size_t>(i % p)];
-      const Segment& seg = pool[static_cast<size_t>((i + i / p) % s)];
+    const auto take = [&](size_t pair, size_t segment) {
+      const auto [g, b] = pairs[pair];
+      const Segment& seg = pool[segment];
       const std::string name = name_of(g, b, seg);
-      if (!names.insert(name).second) continue;
+      if (!names.insert(name).second) return;
       jobs.push_back({name, held_out ? "test" : split, held_out, g, b, seg});
       ++made;
-    }
+    };
+    for (int64_t i = 0; made < target && i < combinations * 2; ++i)
+      take(static_cast<size_t>(i % p), static_cast<size_t>((i + i / p) % s));
+    for (int64_t i = 0; made < target && i < combinations; ++i)
+      take(static_cast<size_t>(i % p), static_cast<size_t>(i / p));
   };
   draw("train", false, config.train);
   draw("validation", false, config.validation);

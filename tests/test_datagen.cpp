@@ -217,6 +217,29 @@ TEST(DatagenPlan, SplitsFollowTheProtocol) {
       PLEAT_ERROR_INVALID_ARGUMENT, "the test clips give no segment of at least 40 frames");
 }
 
+// One garment on one shape (the per-asset data set): the stride 2i mod S of
+// the first pass reaches only even segments, so the plan must still take
+// every segment of every clip, plain and mirrored, once.
+TEST(DatagenPlan, OneGarmentOnOneShapeTakesEverySegment) {
+  Config c = parsed();
+  c.garments.pop_back();
+  c.shapes.pop_back();
+  c.train = 100;
+  c.test = 100;
+  c.held_out = 0;
+  c.segment_frames = 30;
+  c.segments_per_clip = 4;
+  c.min_segment_frames = 20;
+  // Clips 0 and 1 train (4 and 2 segments, each mirrored), clip 2 tests (2, mirrored).
+  const std::vector<Job> jobs = plan_jobs(c, {141, 66, 75});
+  std::set<std::string> train, test;
+  for (const Job& j : jobs) (j.split == "train" ? train : test).insert(j.name);
+  EXPECT_EQ(train.size(), 12u);
+  EXPECT_EQ(test.size(), 4u);
+  EXPECT_EQ(jobs.size(), 16u) << "no job twice";
+  EXPECT_TRUE(train.count("dress-f-12_03-0037m")) << "an odd segment of the pool";
+}
+
 TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
   Motion clip;
   clip.skeleton.names = {"root", "arm"};
