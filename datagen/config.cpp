@@ -248,6 +248,17 @@ Config parse_config(const std::string& text, const std::string& path) {
   if (f.has("cloth")) read_cloth(f.object("cloth"), &c.cloth);
   if (f.has("collision")) read_collision(f.object("collision"), &c.collision);
   if (f.has("check")) read_check(f.object("check"), &c.check);
+  if (f.has("twins")) {
+    Fields t = f.object("twins");
+    c.twins.split = t.text("split", "", true);
+    if (c.twins.split != "train" && c.twins.split != "validation" && c.twins.split != "test")
+      t.bad("must be \"train\", \"validation\" or \"test\"", "split");
+    c.twins.mass_scale = t.number("mass_scale", c.twins.mass_scale, 0.5, 2);
+    c.twins.extra_rest_frames = t.integer("extra_rest_frames", c.twins.extra_rest_frames, 0, 10000);
+    t.done();
+    if (c.twins.mass_scale == 1.0 && c.twins.extra_rest_frames == 0)
+      t.bad("perturbs nothing: a twin would repeat its sequence exactly");
+  }
   f.done();
 
   // Every split that asks for sequences needs garments and clips to draw from.
@@ -276,6 +287,13 @@ Config read_config(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return parse_config(text.str(), path);
+}
+
+Config twin_config(const Config& config) {
+  Config twin = config;
+  twin.cloth.mass *= config.twins.mass_scale;
+  twin.rest_frames += config.twins.extra_rest_frames;
+  return twin;
 }
 
 std::string output_dir(const Config& config) {

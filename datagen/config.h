@@ -41,6 +41,16 @@ struct CheckSettings {
   double max_penetrating_fraction = 0.02;
 };
 
+// The noise floor: every sequence of `split` is simulated a second time
+// with the cloth a little heavier and a longer rest lead-in. What differs
+// between the two is no function of the motion, so no pose-driven model can
+// predict it; the trainer's reports put it next to LBS.
+struct TwinSettings {
+  std::string split;  // "train", "validation" or "test"; empty: no twins
+  double mass_scale = 1.001;
+  int64_t extra_rest_frames = 10;
+};
+
 struct GarmentSpec {
   std::string name;
   std::string mhclo;      // absolute
@@ -92,7 +102,12 @@ struct Config {
   ClothSettings cloth;
   CollisionSettings collision;
   CheckSettings check;
+  TwinSettings twins;
 };
+
+// The settings a twin job runs with: config with the cloth's mass scaled and
+// the rest lead-in lengthened by config.twins.
+Config twin_config(const Config& config);
 
 // Throws PLEAT_ERROR_IO for an unreadable file and PLEAT_ERROR_FORMAT naming
 // the file and field: invalid JSON, an unknown key, a wrong type, a value out

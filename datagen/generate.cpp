@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -92,6 +93,7 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   s["job_hash"] = hash;
   s["simulation_seconds"] = sim.seconds;
   s["held_out_garment"] = job.held_out_garment;
+  if (!job.twin_of.empty()) s["twin_of"] = job.twin_of;
   s["motion_map"] = c.motions[job.segment.motion].map;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
@@ -159,6 +161,8 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
   std::vector<int64_t> frames;
   for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
   const std::vector<Job> jobs = plan_jobs(config, frames);
+  const Config twin = twin_config(config);
+  const auto settings = [&](const Job& job) -> const Config& { return job.twin_of.empty() ? config : twin; };
 
   std::vector<SequenceOutcome> outcomes(jobs.size());
   std::vector<size_t> todo;
@@ -167,7 +171,7 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
     SequenceOutcome& o = outcomes[i];
     o.name = jobs[i].name;
     o.split = jobs[i].split;
-    hashes[i] = job_hash(job_identity(config, jobs[i]).dump());
+    hashes[i] = job_hash(job_identity(settings(jobs[i]), jobs[i]).dump());
     const std::string dir = out + "/" + jobs[i].name;
     const std::string rejected = out + "/.rejected/" + jobs[i].name + ".json";
     if (options.dry_run) {
@@ -215,13 +219,14 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
       }
       try {
         fs::remove(dir + "/meta.json");  // an older job's folder stops counting as complete first
-        const SequenceInputs in = prepare_sequence(config, assets, job);
-        const BlenderResult sim = run_blender(config, config.garments[job.garment], in, work,
-                                              options.blender_threads, [&](int64_t done, int64_t total) {
+        const Config& c = settings(job);
+        const SequenceInputs in = prepare_sequence(c, assets, job);
+        const BlenderResult sim = run_blender(c, c.garments[job.garment], in, work, options.blender_threads,
+                                              [&](int64_t done, int64_t total) {
                                                 std::lock_guard<std::mutex> lock(mutex);
                                                 running[slot].second = {done, total};
                                               });
-        SequenceData d = sequence_of(config, job, in, sim, hashes[i]);
+        SequenceData d = sequence_of(c, job, in, sim, hashes[i]);
         o.check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
                                    in.body->rest.triangles, d.meta.frame_count, config.check);
         if (sim.collider_cache_error > 1e-4) {
@@ -292,6 +297,10 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
   if (!options.dry_run) {
     std::string tsv = "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmessage\n";
     Json splits = {{"train", Json::array()}, {"validation", Json::array()}, {"test", Json::array()}};
+    Json twins = Json::object();  // sequence -> its twin, where both are accepted
+    const auto accepted = [&](const SequenceOutcome& s) {
+      return (s.status == "done" || s.status == "kept") && sequence_complete(out + "/" + s.name);
+    };
     for (size_t i = 0; i < jobs.size(); ++i) {
       const SequenceOutcome& o = outcomes[i];
       char numbers[96];
@@ -301,12 +310,20 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
       for (char& ch : message)
         if (ch == '\t' || ch == '\n') ch = ' ';
       tsv += o.name + "\t" + o.split + "\t" + o.status + "\t" + numbers + "\t" + message + "\n";
-      if ((o.status == "done" || o.status == "kept") && sequence_complete(out + "/" + o.name))
+      if (!accepted(o)) continue;
+      if (jobs[i].twin_of.empty()) {
         splits[o.split].push_back(o.name);
+      } else {
+        const auto original = std::find_if(outcomes.begin(), outcomes.end(), [&](const SequenceOutcome& s) {
+          return s.name == jobs[i].twin_of;
+        });
+        if (original != outcomes.end() && accepted(*original)) twins[jobs[i].twin_of] = o.name;
+      }
     }
     AtomicFile f(out + "/report.tsv");
     f.write(tsv);
     f.commit();
+    if (!twins.empty()) splits["twins"] = twins;
     write_json(out + "/splits.json", splits);
   }
   report.sequences = std::move(outcomes);

@@ -88,7 +88,7 @@ std::vector<Job> plan_jobs(const Config& config, const std::vector<int64_t>& mot
       const Segment& seg = pool[segment];
       const std::string name = name_of(g, b, seg);
       if (!names.insert(name).second) return;
-      jobs.push_back({name, held_out ? "test" : split, held_out, g, b, seg});
+      jobs.push_back({name, held_out ? "test" : split, held_out, "", g, b, seg});
       ++made;
     };
     for (int64_t i = 0; made < target && i < combinations * 2; ++i)
@@ -100,6 +100,16 @@ std::vector<Job> plan_jobs(const Config& config, const std::vector<int64_t>& mot
   draw("validation", false, config.validation);
   draw("test", false, config.test);
   draw("test", true, config.held_out);
+  if (!config.twins.split.empty()) {
+    const size_t planned = jobs.size();
+    for (size_t i = 0; i < planned; ++i)
+      if (jobs[i].split == config.twins.split) {
+        Job twin = jobs[i];
+        twin.name += ".twin";
+        twin.twin_of = jobs[i].name;
+        jobs.push_back(twin);
+      }
+  }
   return jobs;
 }
 

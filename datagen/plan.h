@@ -26,6 +26,7 @@ struct Job {
   std::string name;   // the sequence folder: <garment>-<shape>-<motion>-<first>[m]
   std::string split;  // "train", "validation" or "test"
   bool held_out_garment = false;
+  std::string twin_of;  // a twin job (config.twins): the name of the job it repeats
   size_t garment = 0, shape = 0;
   Segment segment;
 };
@@ -36,6 +37,8 @@ struct Job {
 std::vector<Segment> clip_segments(const Config& config, size_t motion, int64_t frames);
 
 // motion_frames[m]: frame count of motion m at the config's frame rate.
+// With config.twins, every job of that split gets a twin, named
+// `<name>.twin`, planned after all the others.
 // Throws PLEAT_ERROR_INVALID_ARGUMENT naming the split when its clips give no
 // segment. No combination (garment, shape, segment) is planned twice, so a
 // split asking for more than it has gets fewer.

@@ -240,6 +240,34 @@ TEST(DatagenPlan, OneGarmentOnOneShapeTakesEverySegment) {
   EXPECT_TRUE(train.count("dress-f-12_03-0037m")) << "an odd segment of the pool";
 }
 
+// The noise floor's twins: every test job once more, after all the others,
+// with a heavier cloth and a longer rest lead-in.
+TEST(DatagenPlan, TwinsRepeatTheirSplitPerturbed) {
+  Config c = parsed(R"(, "twins": {"split": "test", "mass_scale": 1.01, "extra_rest_frames": 7})");
+  c.min_segment_frames = 40;
+  const std::vector<Job> jobs = plan_jobs(c, {141, 66, 75});
+  std::vector<std::string> test;
+  size_t first_twin = jobs.size();
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    if (jobs[i].twin_of.empty()) {
+      EXPECT_EQ(first_twin, jobs.size()) << "twins come after every other job";
+      if (jobs[i].split == "test") test.push_back(jobs[i].name);
+    } else {
+      first_twin = std::min(first_twin, i);
+      EXPECT_EQ(jobs[i].name, jobs[i].twin_of + ".twin");
+    }
+  }
+  ASSERT_EQ(jobs.size() - first_twin, test.size());
+  for (size_t k = 0; k < test.size(); ++k) EXPECT_EQ(jobs[first_twin + k].twin_of, test[k]);
+  const Config twin = twin_config(c);
+  EXPECT_DOUBLE_EQ(twin.cloth.mass, c.cloth.mass * 1.01);
+  EXPECT_EQ(twin.rest_frames, c.rest_frames + 7);
+  EXPECT_EQ(twin.blend_frames, c.blend_frames);
+  expect_error([] { parsed(R"(, "twins": {"split": "held_out"})"); }, PLEAT_ERROR_FORMAT, "twins.split");
+  expect_error([] { parsed(R"(, "twins": {"split": "test", "mass_scale": 1, "extra_rest_frames": 0})"); },
+               PLEAT_ERROR_FORMAT, "perturbs nothing");
+}
+
 TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
   Motion clip;
   clip.skeleton.names = {"root", "arm"};
