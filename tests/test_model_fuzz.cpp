@@ -446,6 +446,39 @@ TEST(ModelFuzz, OffsetFilterLengthIsWrittenAsFormatVersionThree) {
   }
 }
 
+// A reader of version 3 or older would bind the nearest-vertex prior.
+TEST(ModelFuzz, SoftSkinningPriorIsWrittenAsFormatVersionFour) {
+  std::shared_ptr<Model> m =
+      deserialize_model(small_model_bytes().data(), small_model_bytes().size(), "small");
+  m->skinning_prior_radius = 0.1f;
+  m->skinning_prior_floor = 0.01f;
+  const std::vector<uint8_t> soft = serialize_model(*m);
+  EXPECT_EQ(fb::GetModel(soft.data())->format_version(), 4u);
+  const std::shared_ptr<Model> back = deserialize_model(soft.data(), soft.size(), "soft");
+  EXPECT_EQ(back->skinning_prior_radius, 0.1f);
+  EXPECT_EQ(back->skinning_prior_floor, 0.01f);
+  EXPECT_EQ(deserialize_model(small_model_bytes().data(), small_model_bytes().size(), "plain")
+                ->skinning_prior_floor,
+            kDefaultSkinningPriorFloor)
+      << "files without the field keep the old floor";
+  expect_refused(
+      with_format_version(soft, 3), PLEAT_ERROR_FORMAT,
+      "skinning_prior_radius 0.100000 and skinning_prior_floor 0.010000 need format_version 4 (the "
+      "file says 3)");
+  for (float bad : {-0.01f, kMaxSkinningPriorRadius * 2, std::numeric_limits<float>::quiet_NaN()}) {
+    std::vector<uint8_t> bytes = soft;
+    auto* table = flatbuffers::GetMutableRoot<flatbuffers::Table>(bytes.data());
+    ASSERT_TRUE(table->SetField<float>(fb::Model::VT_SKINNING_PRIOR_RADIUS, bad, 0.0f));
+    expect_refused(bytes, PLEAT_ERROR_FORMAT, "skinning_prior_radius is");
+  }
+  for (float bad : {0.0f, 2.0f, std::numeric_limits<float>::infinity()}) {
+    std::vector<uint8_t> bytes = soft;
+    auto* table = flatbuffers::GetMutableRoot<flatbuffers::Table>(bytes.data());
+    ASSERT_TRUE(table->SetField<float>(fb::Model::VT_SKINNING_PRIOR_FLOOR, bad, kDefaultSkinningPriorFloor));
+    expect_refused(bytes, PLEAT_ERROR_FORMAT, "skinning_prior_floor is");
+  }
+}
+
 TEST(ModelFuzz, EveryTruncationIsRefused) {
   const std::vector<uint8_t> good = small_model_bytes();
   size_t padding = 0;

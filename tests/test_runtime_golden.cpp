@@ -316,16 +316,24 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
   Mat gb = gat(m.garment_encoder.layers[0], gx, nbrs);
   for (int v = 0; v < n; ++v) gb.row(v) = gb.row(v).cwiseProduct(code);
 
-  // Skinning prior from the nearest body vertex.
+  // Skinning prior: the body weights within the prior's radius, weighted
+  // 1 - (d / r)², else the nearest body vertex's.
   Mat prior(n, kJoints);
   const Eigen::MatrixXd body_w = dense_skin_weights(body.weights);
+  const double r = m.skinning_prior_radius;
   for (int v = 0; v < n; ++v) {
     int best = 0;
-    for (int b = 1; b < body.vertex_count(); ++b)
-      if ((body.rest.vertices.row(b) - rest.row(v)).norm() <
-          (body.rest.vertices.row(best) - rest.row(v)).norm())
-        best = b;
-    for (int j = 0; j < kJoints; ++j) prior(v, j) = m.skinning_prior * std::log(body_w(best, j) + 1e-6);
+    Eigen::RowVectorXd near = Eigen::RowVectorXd::Zero(kJoints);
+    double total = 0.0;
+    for (int b = 0; b < body.vertex_count(); ++b) {
+      const double d = (body.rest.vertices.row(b) - rest.row(v)).norm();
+      if (d < (body.rest.vertices.row(best) - rest.row(v)).norm()) best = b;
+      if (d < r) near += (1 - d * d / (r * r)) * body_w.row(b), total += 1 - d * d / (r * r);
+    }
+    const Eigen::RowVectorXd w =
+        total > 0 ? Eigen::RowVectorXd(near / total) : Eigen::RowVectorXd(body_w.row(best));
+    for (int j = 0; j < kJoints; ++j)
+      prior(v, j) = m.skinning_prior * std::log(w[j] + m.skinning_prior_floor);
   }
 
   Poses rest_pose;
@@ -398,10 +406,13 @@ std::vector<Mat> reference(const Model& m, const Garment& g, const Body& body, c
 }
 
 void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1,
-                    float offset_filter_length = 0.0f) {
+                    float offset_filter_length = 0.0f, float prior_radius = 0.0f,
+                    float prior_floor = kDefaultSkinningPriorFloor) {
   const std::shared_ptr<Model> model = tiny_model(variant);
   model->body_vertex_stride = body_vertex_stride;
   model->offset_filter_length = offset_filter_length;
+  model->skinning_prior_radius = prior_radius;
+  model->skinning_prior_floor = prior_floor;
   const Body body = chain_body();
   const auto garment = sheet();
   const Poses p = motion();
@@ -447,6 +458,38 @@ TEST(RuntimeGolden, BodyVertexStrideMatchesIndependentReference) {
 // changes every offset.
 TEST(RuntimeGolden, OffsetFilterMatchesIndependentReference) {
   expect_matches(nn::AttentionVariant::flexigat, 1, 0.1f);
+}
+
+// A soft prior: r = 0.25 m reaches two to four of the chain's body vertices
+// from each sheet vertex, the floor puts an absent joint at log(0.01).
+TEST(RuntimeGolden, SoftSkinningPriorMatchesIndependentReference) {
+  expect_matches(nn::AttentionVariant::flexigat, 1, 0.0f, 0.25f, 0.01f);
+  // A radius that reaches no body vertex from some sheet vertices: those
+  // fall back to the nearest vertex's weights.
+  expect_matches(nn::AttentionVariant::flexigat, 1, 0.0f, 0.06f, 0.01f);
+}
+
+// The prior's radius mixes the weights of the body vertices it reaches, by
+// hand: sheet vertex 8 at (0.16, 1.37, 0.14) is 0.545, 0.482, 0.284, 0.129
+// and 0.212 m from body vertices 0-4 (hips, hips, hips/spine 0.4/0.6,
+// spine/arm 0.3/0.7, arm). With r = 0.5 m vertices 1-4 count, with
+// 1 - (d/r)² = 0.0696, 0.6776, 0.9336, 0.8196: hips 0.1362, spine 0.2746,
+// arm 0.5892. The nearest, vertex 3, has no hips at all.
+TEST(RuntimeGolden, SoftSkinningPriorAveragesTheBodyWithinItsRadius) {
+  const Body body = chain_body();
+  const auto garment = sheet();
+  std::shared_ptr<Model> model = tiny_model(nn::AttentionVariant::flexigat);
+  model->skinning_prior = 1.0f;
+  model->skinning_prior_floor = 0.01f;
+  model->skinning_prior_radius = 0.0f;
+  const nn::MatrixRM nearest = bind_inputs(*model, *garment, body)->prior;
+  model->skinning_prior_radius = 0.5f;
+  const nn::MatrixRM soft = bind_inputs(*model, *garment, body)->prior;
+  EXPECT_NEAR(nearest(8, 0), std::log(0.01), 1e-5) << "hips absent: at the floor";
+  EXPECT_NEAR(nearest(8, 2), std::log(0.71), 1e-5);
+  EXPECT_NEAR(soft(8, 0), std::log(0.1362 + 0.01), 1e-3) << "hips within reach of training";
+  EXPECT_NEAR(soft(8, 1), std::log(0.2746 + 0.01), 1e-3);
+  EXPECT_NEAR(soft(8, 2), std::log(0.5892 + 0.01), 1e-3);
 }
 
 // The encoder's input rows are body vertices 0, 2, 4 with a stride of 2 (the

@@ -1,11 +1,13 @@
 #include "trainer.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -103,6 +105,9 @@ TrainerConfig read_trainer_config(const std::string& path) {
       c.train = folders(splits.at("train"), root);
       c.validation = folders(splits.at("validation"), root);
       c.test = folders(splits.at("test"), root);
+      if (splits.contains("twins"))
+        for (const auto& [sequence, twin] : splits["twins"].items())
+          c.twins[(root / sequence).string()] = (root / twin.get<std::string>()).string();
     } else {
       c.train = folders(j.at("train"), base);
       if (j.contains("validation")) c.validation = folders(j["validation"], base);
@@ -136,6 +141,8 @@ TrainerConfig read_trainer_config(const std::string& path) {
       c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
       c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);
       c.model.offset_filter_length = m.value("offset_filter_length", c.model.offset_filter_length);
+      c.model.skinning_prior_radius = m.value("skinning_prior_radius", c.model.skinning_prior_radius);
+      c.model.skinning_prior_floor = m.value("skinning_prior_floor", c.model.skinning_prior_floor);
     }
   } catch (const Json::exception& e) {
     bad_config(path, e.what());
@@ -172,12 +179,13 @@ Trainer::Trainer(TrainerConfig config)
       }
     }
   if (!validation_.sequences().empty()) validation_lbs_ = lbs_baseline(validation_);
+  train_lbs_ = lbs_baseline(train_);
   std::filesystem::create_directories(config_.output);
   load_checkpoint();
 }
 
-torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,
-                                  double* vertex_cm) {
+std::vector<LossTerm> Trainer::batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,
+                                          double* vertex_cm) {
   const size_t index = static_cast<size_t>(&s - train_.sequences().data());
   const NetworkOutput out =
       network_->forward(*bound_train_[index], s.poses(), frames, runtime::Stage::refinement);
@@ -191,31 +199,48 @@ torch::Tensor Trainer::batch_loss(const TrainingSequence& s, const std::vector<i
   };
   const torch::Tensor plain = vertex_loss(x, truth);
   *vertex_cm = plain.item<double>() * 100.0;
-  torch::Tensor loss = torch::zeros({});
-  if (weight("vertex") > 0)
-    loss = loss + weight("vertex") *
-                      (config_.frequency_division
-                           ? frequency_vertex_loss(*bands, x, truth, weight("k_mid"), weight("k_high")).total
-                           : plain);
-  if (weight("edge") > 0) loss = loss + weight("edge") * edge_loss(*geometry, x, truth);
-  if (weight("curvature") > 0) loss = loss + weight("curvature") * curvature_loss(*geometry, x, truth);
-  if (weight("normal") > 0) loss = loss + weight("normal") * normal_loss(*geometry, x, truth);
-  if (weight("skinning_smoothness") > 0)
-    loss = loss + weight("skinning_smoothness") *
-                      skinning_smoothness_loss(*geometry, out.weights, bound_train_[index]->prior_weights);
-  if (weight("offset_smoothness") > 0)
-    loss = loss + weight("offset_smoothness") * (offset_smoothness_loss(*geometry, out.blend) +
-                                                 offset_smoothness_loss(*geometry, x - out.skinned));
-  if (weight("collision") > 0)
-    loss = loss + weight("collision") * collision_loss(x, s.body_positions.index_select(0, at),
-                                                       s.body_normals.index_select(0, at));
-  if (weight("self_collision") > 0)
-    loss = loss + weight("self_collision") * self_collision_loss(*geometry, x);
-  if (weight("gravity") > 0) loss = loss + weight("gravity") * gravity_loss(*geometry, x);
-  if (weight("stretch") > 0) loss = loss + weight("stretch") * stretch_loss(*geometry, x);
-  if (weight("shear") > 0) loss = loss + weight("shear") * shear_loss(*geometry, x);
-  if (weight("bending") > 0) loss = loss + weight("bending") * bending_loss(*geometry, x);
-  return loss;
+  std::vector<LossTerm> terms;
+  const auto add = [&](const char* name, const std::function<torch::Tensor()>& term) {
+    if (weight(name) > 0) terms.push_back({name, weight(name) * term()});
+  };
+  add("vertex", [&] {
+    return config_.frequency_division
+               ? frequency_vertex_loss(*bands, x, truth, weight("k_mid"), weight("k_high")).total
+               : plain;
+  });
+  add("edge", [&] { return edge_loss(*geometry, x, truth); });
+  add("curvature", [&] { return curvature_loss(*geometry, x, truth); });
+  add("normal", [&] { return normal_loss(*geometry, x, truth); });
+  add("skinning_smoothness",
+      [&] { return skinning_smoothness_loss(*geometry, out.weights, bound_train_[index]->prior_weights); });
+  add("offset_smoothness", [&] {
+    return offset_smoothness_loss(*geometry, out.blend) + offset_smoothness_loss(*geometry, x - out.skinned);
+  });
+  add("collision", [&] {
+    return collision_loss(x, s.body_positions.index_select(0, at), s.body_normals.index_select(0, at));
+  });
+  add("self_collision", [&] { return self_collision_loss(*geometry, x); });
+  add("gravity", [&] { return gravity_loss(*geometry, x); });
+  add("stretch", [&] { return stretch_loss(*geometry, x); });
+  add("shear", [&] { return shear_loss(*geometry, x); });
+  add("bending", [&] { return bending_loss(*geometry, x); });
+  return terms;
+}
+
+std::map<std::string, double> Trainer::gradient_norms(const std::vector<LossTerm>& terms) {
+  std::map<std::string, double> norms;
+  for (const LossTerm& t : terms) {
+    norms[t.name] = 0.0;
+    if (!t.value.requires_grad()) continue;  // nothing trained reaches it (frozen, or a constant)
+    optimizer_->zero_grad();
+    t.value.backward({}, /*retain_graph=*/true);
+    double squared = 0;
+    for (const torch::Tensor& p : network_->parameters())
+      if (p.grad().defined()) squared += p.grad().pow(2).sum().item<double>();
+    norms[t.name] = std::sqrt(squared);
+  }
+  optimizer_->zero_grad();
+  return norms;
 }
 
 EpochResult Trainer::train_epoch() {
@@ -242,8 +267,16 @@ EpochResult Trainer::train_epoch() {
     for (const Dataset::Part& part : batches[b]) {
       double vertex_cm = 0;
       const double share = double(part.frames.size()) / double(batch_frames);
-      const torch::Tensor loss =
-          batch_loss(train_.sequences()[part.sequence], part.frames, &vertex_cm) * share;
+      const std::vector<LossTerm> terms =
+          batch_loss(train_.sequences()[part.sequence], part.frames, &vertex_cm);
+      if (b == 0 && &part == &batches[b].front())
+        for (const auto& [name, norm] : gradient_norms(terms)) r.terms[name].gradient_norm = norm;
+      torch::Tensor loss = torch::zeros({});
+      for (const LossTerm& t : terms) {
+        loss = loss + t.value;
+        r.terms[t.name].loss += t.value.item<double>() * double(part.frames.size());
+      }
+      loss = loss * share;
       loss.backward();
       batch_loss_value += loss.item<double>();
       vertex_sum += vertex_cm * double(part.frames.size());
@@ -260,13 +293,16 @@ EpochResult Trainer::train_epoch() {
   r.frames_per_second = double(frames) / r.seconds;
   r.loss = loss_sum / double(frames);
   r.train_e_verts_cm = vertex_sum / double(frames);
+  for (auto& [name, t] : r.terms) t.loss /= double(frames);
   r.validation = validation_.sequences().empty() ? MetricsResult{} : validate(validation_);
   last_validation_ = r.validation;
   if (config_.progress)
     std::fprintf(stderr,
-                 "\repoch %lld/%lld %-16s loss %.4f  E_verts %.3f cm (validation %.3f cm)  %.1f frames/s\n",
+                 "\repoch %lld/%lld %-16s loss %.4f  E_verts train %.3f cm (LBS %.3f), validation %.3f cm "
+                 "(LBS %.3f)  %.1f frames/s\n",
                  static_cast<long long>(r.epoch), static_cast<long long>(config_.epochs), r.phase.c_str(),
-                 r.loss, r.train_e_verts_cm, r.validation.e_verts_cm, r.frames_per_second);
+                 r.loss, r.train_e_verts_cm, train_lbs_.e_verts_cm, r.validation.e_verts_cm,
+                 validation_lbs_.e_verts_cm, r.frames_per_second);
   ++epoch_;
   schedule_.end_epoch(validation_.sequences().empty() ? r.train_e_verts_cm : r.validation.e_verts_cm, r.loss);
   return r;
@@ -321,21 +357,28 @@ void Trainer::log(const EpochResult& r) const {
   if (fresh)
     out << "epoch,phase,learning_rate,loss,train_e_verts_cm,e_verts_cm,e_vnorm_deg,e_fnorm_deg,e_edge_"
            "percent,"
-           "e_curv,e_low_cm,e_mid_cm,e_high_cm,self_collision_percent,seconds,frames_per_second\n";
+           "e_curv,e_low_cm,e_mid_cm,e_high_cm,self_collision_percent,seconds,frames_per_second,train_lbs_e_"
+           "verts_cm,lbs_e_verts_cm\n";
   const MetricsResult& v = r.validation;
   out << r.epoch << ',' << r.phase << ',' << r.learning_rate << ',' << r.loss << ',' << r.train_e_verts_cm
       << ',' << v.e_verts_cm << ',' << v.e_vnorm_deg << ',' << v.e_fnorm_deg << ',' << v.e_edge_percent << ','
       << v.e_curv << ',' << v.e_low_cm << ',' << v.e_mid_cm << ',' << v.e_high_cm << ','
-      << v.self_collision_percent << ',' << r.seconds << ',' << r.frames_per_second << '\n';
+      << v.self_collision_percent << ',' << r.seconds << ',' << r.frames_per_second << ','
+      << train_lbs_.e_verts_cm << ',' << validation_lbs_.e_verts_cm << '\n';
   if (!out) fail(PLEAT_ERROR_IO, "cannot append to '" + path + "'");
+  const std::string terms_path = config_.output + "/terms.csv";
+  const bool fresh_terms = !std::filesystem::exists(terms_path);
+  std::ofstream terms(terms_path, std::ios::app);
+  if (fresh_terms) terms << "epoch,term,loss,gradient_norm\n";
+  for (const auto& [name, t] : r.terms)
+    terms << r.epoch << ',' << name << ',' << t.loss << ',' << t.gradient_norm << '\n';
+  if (!terms) fail(PLEAT_ERROR_IO, "cannot append to '" + terms_path + "'");
 }
 
 void Trainer::keep_if_best(const EpochResult& r) {
   if (validation_.sequences().empty()) return;
-  const double ratio = worst_ratio(r.validation, validation_lbs_);
-  if (best_epoch_ == 0 || ratio < best_ratio_) {
+  if (best_epoch_ == 0 || r.validation.e_verts_cm < best_validation_.e_verts_cm) {
     best_epoch_ = r.epoch;
-    best_ratio_ = ratio;
     best_validation_ = r.validation;
     best_parameters_.clear();
     for (const torch::Tensor& p : network_->parameters()) best_parameters_.push_back(p.detach().clone());
@@ -344,8 +387,13 @@ void Trainer::keep_if_best(const EpochResult& r) {
     std::filesystem::rename(path + ".tmp", path);
   }
   if (config_.progress)
-    std::fprintf(stderr, "epoch %lld: worst metric %.3f x LBS on validation; kept epoch %lld (%.3f x)\n",
-                 static_cast<long long>(r.epoch), ratio, static_cast<long long>(best_epoch_), best_ratio_);
+    std::fprintf(
+        stderr,
+        "epoch %lld: validation E_verts %.3f x LBS, worst metric %.3f x LBS; kept epoch %lld (E_verts "
+        "%.3f cm)\n",
+        static_cast<long long>(r.epoch), r.validation.e_verts_cm / validation_lbs_.e_verts_cm,
+        worst_ratio(r.validation, validation_lbs_), static_cast<long long>(best_epoch_),
+        best_validation_.e_verts_cm);
 }
 
 void Trainer::save_checkpoint() const {
@@ -360,8 +408,9 @@ void Trainer::save_checkpoint() const {
                      {"parameters", network_->parameters().size()},
                      {"body_vertex_stride", config_.model.body_vertex_stride},
                      {"offset_filter_length", config_.model.offset_filter_length},
+                     {"skinning_prior_radius", config_.model.skinning_prior_radius},
+                     {"skinning_prior_floor", config_.model.skinning_prior_floor},
                      {"best_epoch", best_epoch_},
-                     {"best_ratio", best_ratio_},
                      {"best_validation", metrics_json(best_validation_)},
                      {"schedule", schedule_.save()},
                      {"rng", rng.str()}};
@@ -396,6 +445,10 @@ bool Trainer::load_checkpoint() {
   same_setting("body_vertex_stride", meta.value("body_vertex_stride", 1), config_.model.body_vertex_stride);
   same_setting("offset_filter_length", meta.value("offset_filter_length", 0.0f),
                config_.model.offset_filter_length);
+  same_setting("skinning_prior_radius", meta.value("skinning_prior_radius", 0.0f),
+               config_.model.skinning_prior_radius);
+  same_setting("skinning_prior_floor", meta.value("skinning_prior_floor", runtime::kDefaultSkinningPriorFloor),
+               config_.model.skinning_prior_floor);
   {
     torch::NoGradGuard no_grad;
     for (size_t i = 0; i < parameters.size(); ++i) parameters[i].copy_(tensors[i]);
@@ -405,7 +458,6 @@ bool Trainer::load_checkpoint() {
   epoch_ = meta.at("epoch").get<int64_t>();
   best_epoch_ = meta.value("best_epoch", int64_t{0});
   if (best_epoch_ > 0) {
-    best_ratio_ = meta.at("best_ratio").get<double>();
     best_validation_ = metrics_from_json(meta.at("best_validation"));
     torch::load(best_parameters_, config_.output + "/best.pt");
     if (best_parameters_.size() != parameters.size())
@@ -437,7 +489,7 @@ std::shared_ptr<runtime::Model> Trainer::export_model() const {
   t.schedule = "cosine; " + config_.schedule_source;
   if (best_epoch_ > 0)
     t.schedule += "; kept epoch " + std::to_string(best_epoch_) + " of " + std::to_string(epoch_) +
-                  " (lowest worst metric against LBS on validation)";
+                  " (lowest validation E_verts)";
   t.epochs = best_epoch_ > 0 ? best_epoch_ : epoch_;
   t.seed = static_cast<int64_t>(config_.seed);
   t.created = iso_now();

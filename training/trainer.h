@@ -2,9 +2,11 @@
 // The trainer: a model initialised for the data's skeleton (or resumed from a
 // checkpoint), trained with Adamax and cosine annealing under the progressive
 // schedule, validated every epoch with the library's metrics, checkpointed
-// so a resumed run continues exactly, logged as CSV, exported as a model file.
-// docs/training.md describes the configuration.
+// so a resumed run continues exactly, logged as CSV (log.csv per epoch,
+// terms.csv per loss term), exported as a model file. docs/training.md
+// describes the configuration.
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +23,9 @@ namespace pleat::training {
 
 struct TrainerConfig {
   std::vector<std::string> train, validation, test;  // sequence folders
+  // Sequence folder -> its twin (datagen's twins: the noise floor), where the
+  // data set has one.
+  std::map<std::string, std::string> twins;
   Schedule schedule;
   std::string schedule_source = "inline";
   std::string output;  // folder: checkpoint.pt, checkpoint.json, best.pt, log.csv, model.pleat
@@ -39,13 +44,28 @@ struct TrainerConfig {
 // Throws PLEAT_ERROR_FORMAT naming the file and key.
 TrainerConfig read_trainer_config(const std::string& path);
 
+// One weighted term of the loss (its schedule name; the weight applied).
+struct LossTerm {
+  std::string name;
+  torch::Tensor value;
+};
+
+// A term over an epoch: its frame-weighted mean, and the norm of its gradient
+// over every trained parameter on the epoch's first batch (what it pulls with,
+// against the others).
+struct TermStats {
+  double loss = 0.0;
+  double gradient_norm = 0.0;
+};
+
 struct EpochResult {
   int64_t epoch = 0;
   std::string phase;
   double learning_rate = 0.0;
   double loss = 0.0;              // mean weighted loss over the epoch's batches
   double train_e_verts_cm = 0.0;  // mean vertex distance of the training batches
-  MetricsResult validation;       // on the validation sequences (zeros without any)
+  std::map<std::string, TermStats> terms;
+  MetricsResult validation;  // on the validation sequences (zeros without any)
   double seconds = 0.0;
   double frames_per_second = 0.0;  // training frames (forward + backward)
 };
@@ -64,18 +84,22 @@ class Trainer {
   MetricsResult validate(const Dataset& data);
 
   // The kept epoch's weights as a model: with validation data the epoch with
-  // the lowest worst_ratio against LBS on it (best_epoch()), else the last.
+  // the lowest validation E_verts (best_epoch()), else the last. E_verts is
+  // the error a user sees; the other metrics are logged, they do not veto.
   std::shared_ptr<runtime::Model> export_model() const;
   int64_t epoch() const { return epoch_; }
   int64_t best_epoch() const { return best_epoch_; }  // 0: none kept (no validation data)
   const MetricsResult& best_validation() const { return best_validation_; }
   const MetricsResult& validation_baseline() const { return validation_lbs_; }
+  const MetricsResult& training_baseline() const { return train_lbs_; }
   Network& network() { return network_; }
   const Dataset& training_data() const { return train_; }
 
  private:
   struct Garments;  // losses' per-garment data (geometry, bands)
-  torch::Tensor batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames, double* vertex_cm);
+  std::vector<LossTerm> batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,
+                                   double* vertex_cm);
+  std::map<std::string, double> gradient_norms(const std::vector<LossTerm>& terms);
   void keep_if_best(const EpochResult& r);
   void save_checkpoint() const;
   bool load_checkpoint();
@@ -94,10 +118,9 @@ class Trainer {
   std::mt19937_64 rng_;
   int64_t epoch_ = 0;
   MetricsResult last_validation_;
-  MetricsResult validation_lbs_;  // the LBS baseline on the validation split
-  // The kept epoch (best.pt): its number, worst_ratio, validation metrics, weights.
+  MetricsResult validation_lbs_, train_lbs_;  // the LBS baseline on each split
+  // The kept epoch (best.pt): its number, validation metrics, weights.
   int64_t best_epoch_ = 0;
-  double best_ratio_ = 0.0;
   MetricsResult best_validation_;
   std::vector<torch::Tensor> best_parameters_;
 };

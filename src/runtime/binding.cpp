@@ -1,9 +1,11 @@
 #include "runtime/binding.h"
 
 #include <algorithm>
+#include <memory>
 
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "metrics/box_tree.h"
 #include "metrics/nearest_points.h"
 #include "runtime/frame_features.h"
 
@@ -63,6 +65,50 @@ nn::RowVector shape_vector(const Model& model, const Body& body) {
   return beta;
 }
 
+// The body's skin weights seen from each rest garment vertex (N x S, model
+// joint order): the mean over the rest body vertices within `radius`,
+// weighted 1 - (d / radius)², or the nearest vertex's weights where none is
+// that close (and everywhere for radius 0).
+nn::MatrixRM prior_weights(const Body& body, const Points3d& garment, double radius,
+                           const std::vector<int32_t>& model_of_body) {
+  const Points3d& points = body.rest.vertices;
+  const SkinWeights& w = body.weights;
+  const std::vector<int32_t> nearest = nearest_points(points, garment);
+  nn::MatrixRM prior = nn::MatrixRM::Zero(garment.rows(), static_cast<Eigen::Index>(model_of_body.size()));
+  const auto add = [&](Eigen::Index v, int32_t b, double share) {
+    for (int32_t k = w.offsets[b]; k < w.offsets[b + 1]; ++k)
+      prior(v, model_of_body[w.joints[k]]) += static_cast<float>(share * w.weights[k]);
+  };
+  std::unique_ptr<BoxTree> tree;
+  if (radius > 0.0) {
+    std::vector<Box> boxes(static_cast<size_t>(points.rows()));
+    for (Eigen::Index b = 0; b < points.rows(); ++b)
+      boxes[static_cast<size_t>(b)].extend(points.row(b).transpose());
+    tree = std::make_unique<BoxTree>(std::move(boxes));
+  }
+  std::vector<std::pair<int32_t, double>> near;
+  for (Eigen::Index v = 0; v < garment.rows(); ++v) {
+    near.clear();
+    double total = 0.0;
+    if (tree) {
+      const Eigen::Vector3d x = garment.row(v).transpose();
+      Box query;
+      query.extend(x);
+      query.inflate(radius);
+      tree->query(query, [&](int32_t b) {
+        const double d2 = (points.row(b).transpose() - x).squaredNorm() / (radius * radius);
+        if (d2 < 1.0) near.emplace_back(b, 1.0 - d2), total += 1.0 - d2;
+      });
+    }
+    if (near.empty()) {
+      add(v, nearest[static_cast<size_t>(v)], 1.0);
+      continue;
+    }
+    for (const auto& [b, k] : near) add(v, b, k / total);
+  }
+  return prior;
+}
+
 }  // namespace
 
 void normalize_rows(const InputNormalization& n, nn::MatrixRM& x, int32_t begin, int32_t end) {
@@ -107,18 +153,12 @@ std::unique_ptr<Binding> bind_inputs(const Model& m, const Garment& g, const Bod
   FrameFeatures(m, b->skeleton, b->body_of_model).rest_garment(g, b->rest_joints, b->garment_input);
   normalize_rows(m.garment_encoder.normalization, b->garment_input, 0, n);
 
-  // Skinning prior: the weights of the nearest rest body vertex.
+  // Skinning prior: the body's weights around each rest garment vertex.
   if (m.skinning_prior > 0.0f) {
-    const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, g.rest.vertices);
     std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
     for (int32_t j = 0; j < joints; ++j) model_of_body[b->body_of_model[j]] = j;
-    b->prior = nn::MatrixRM::Zero(n, joints);
-    for (int32_t v = 0; v < n; ++v) {
-      const int32_t near = nearest[v];
-      for (int32_t k = body.weights.offsets[near]; k < body.weights.offsets[near + 1]; ++k)
-        b->prior(v, model_of_body[body.weights.joints[k]]) = static_cast<float>(body.weights.weights[k]);
-    }
-    b->prior = m.skinning_prior * (b->prior.array() + kSkinningPriorFloor).log();
+    b->prior = prior_weights(body, g.rest.vertices, m.skinning_prior_radius, model_of_body);
+    b->prior = m.skinning_prior * (b->prior.array() + m.skinning_prior_floor).log();
   }
   b->graph = nn::attention_graph(g.graph);
   b->rest = g.rest.vertices.cast<float>();

@@ -25,7 +25,7 @@ struct Binding {
   Points3d rest_joints;                // J(β), model order
   nn::MatrixRM body_input;             // every k-th body vertex x body-encoder input, normalised
   nn::MatrixRM garment_input;          // garment vertices x garment-encoder input, normalised
-  nn::MatrixRM prior;                  // N x S: skinning_prior * log(w + 1e-6); empty without a prior
+  nn::MatrixRM prior;                  // N x S: skinning_prior * log(w + floor); empty without a prior
   nn::AttentionGraph graph;            // mesh edges + self loops
   nn::MatrixRM rest;                   // N x 3: T̄ (float)
   std::unique_ptr<OffsetFilter> offset_filter;  // null when the model's offset_filter_length is 0
@@ -39,9 +39,5 @@ std::unique_ptr<Binding> bind_inputs(const Model& model, const Garment& garment,
 
 // (x - shift) * scale on rows [begin, end) of a feature matrix.
 void normalize_rows(const InputNormalization& normalization, nn::MatrixRM& x, int32_t begin, int32_t end);
-
-// The floor in log(w + floor) of the skinning prior: a zero body weight
-// stays finite.
-constexpr float kSkinningPriorFloor = 1e-6f;
 
 }  // namespace pleat::runtime

@@ -100,6 +100,10 @@ struct TrainingInfo {
   std::vector<TrainingMetric> metrics;
 };
 
+// The floor of the skinning prior's log(w + floor) in files that do not set
+// one (format versions 1-3): a zero body weight stays finite.
+constexpr float kDefaultSkinningPriorFloor = 1e-6f;
+
 struct Model {
   std::string source;  // file it came from, for messages
   ModelSkeleton skeleton;
@@ -133,6 +137,12 @@ struct Model {
   // of the body vertex nearest to each rest garment vertex (0 = none, the
   // paper's form). docs/decisions/0004-skinning-prior.md.
   float skinning_prior = 0.0f;
+  // Its reach: body weights averaged within this radius (metres; 0 = the
+  // nearest vertex alone), and the floor f of log(w + f). A prior that only
+  // names the nearest vertex's joints puts every other joint at log(1e-6):
+  // training can never move a skirt's hem from a thigh to the hips.
+  float skinning_prior_radius = 0.0f;
+  float skinning_prior_floor = kDefaultSkinningPriorFloor;
 
   GraphStack blend;  // code width -> 3
   float blend_scale = 1.0f;

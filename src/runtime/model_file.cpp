@@ -409,17 +409,20 @@ std::vector<uint8_t> serialize_model(const Model& m) {
   auto training = write_training(b, m.training);
   auto generator = b.CreateString("pleat " PLEAT_VERSION_STRING);
 
-  auto root = fb::CreateModel(
-      b, model_format_version(m), generator, skeleton, shape, m.frame_rate, m.window_frames,
-      static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k, body_features, body_normalization,
-      body_encoder, body_pool, body_pool_activation, garment_encoder, motion_features, motion_normalization,
-      motion_encoder, skinning, m.skinning_prior, blend, m.blend_scale, refinement, m.refinement_scale, bands,
-      training, m.body_vertex_stride, m.offset_filter_length);
+  auto root = fb::CreateModel(b, model_format_version(m), generator, skeleton, shape, m.frame_rate,
+                              m.window_frames, static_cast<fb::MotionMode>(m.motion_mode), m.default_top_k,
+                              body_features, body_normalization, body_encoder, body_pool,
+                              body_pool_activation, garment_encoder, motion_features, motion_normalization,
+                              motion_encoder, skinning, m.skinning_prior, blend, m.blend_scale, refinement,
+                              m.refinement_scale, bands, training, m.body_vertex_stride,
+                              m.offset_filter_length, m.skinning_prior_radius, m.skinning_prior_floor);
   fb::FinishModelBuffer(b, root);
   return {b.GetBufferPointer(), b.GetBufferPointer() + b.GetSize()};
 }
 
 uint32_t model_format_version(const Model& model) {
+  if (model.skinning_prior_radius > 0.0f || model.skinning_prior_floor != kDefaultSkinningPriorFloor)
+    return 4;
   if (model.offset_filter_length > 0.0f) return 3;
   return model.body_vertex_stride > 1 ? 2 : 1;
 }
@@ -497,6 +500,13 @@ std::shared_ptr<Model> deserialize_model(const uint8_t* data, size_t size, const
   if (m->offset_filter_length != 0.0f && root.format_version() < 3)
     r.bad("offset_filter_length " + std::to_string(m->offset_filter_length) +
           " needs format_version 3 (the file says " + std::to_string(root.format_version()) + ")");
+  m->skinning_prior_radius = root.skinning_prior_radius();
+  m->skinning_prior_floor = root.skinning_prior_floor();
+  if ((m->skinning_prior_radius != 0.0f || m->skinning_prior_floor != kDefaultSkinningPriorFloor) &&
+      root.format_version() < 4)
+    r.bad("skinning_prior_radius " + std::to_string(m->skinning_prior_radius) + " and skinning_prior_floor " +
+          std::to_string(m->skinning_prior_floor) + " need format_version 4 (the file says " +
+          std::to_string(root.format_version()) + ")");
   read_metadata(r, root, m.get());
   validate_model(*m);
   return m;

@@ -20,7 +20,7 @@ namespace pleat::runtime {
 //   1: the first format.
 //   2: body_vertex_stride > 1.
 //   3: offset_filter_length > 0.
-constexpr uint32_t kModelFormatVersion = 3;
+constexpr uint32_t kModelFormatVersion = 4;
 uint32_t model_format_version(const Model& model);
 
 // Caps checked before anything is allocated from a file's counts.
@@ -29,7 +29,8 @@ constexpr int32_t kMaxModelShapeEntries = 1024;
 constexpr int32_t kMaxStackLayers = 64;  // per MLP, graph stack or GRU
 constexpr int32_t kMaxStackFeatures = 16;
 constexpr int32_t kMaxBodyVertexStride = 4096;
-constexpr float kMaxOffsetFilterLength = 1.0f;  // metres
+constexpr float kMaxOffsetFilterLength = 1.0f;   // metres
+constexpr float kMaxSkinningPriorRadius = 1.0f;  // metres
 
 std::vector<uint8_t> serialize_model(const Model& model);
 // Atomic: the file appears complete or not at all. Throws PLEAT_ERROR_IO.

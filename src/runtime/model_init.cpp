@@ -175,6 +175,8 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   m->blend_scale = o.blend_scale;
   m->refinement_scale = o.refinement_scale;
   m->skinning_prior = o.skinning_prior;
+  m->skinning_prior_radius = o.skinning_prior_radius;
+  m->skinning_prior_floor = o.skinning_prior_floor;
   m->body_vertex_stride = o.body_vertex_stride;
   m->offset_filter_length = o.offset_filter_length;
   m->body_features = {Feature::shape, Feature::rest_joint_distances};

@@ -36,6 +36,8 @@ struct ModelInitOptions {
   // The body's own skinning as the starting point (decision 0004): an
   // untrained model skins like the body, training learns what differs.
   float skinning_prior = 1.0f;
+  float skinning_prior_radius = 0.0f;  // Model::skinning_prior_radius
+  float skinning_prior_floor = kDefaultSkinningPriorFloor;
   float refinement_scale = 0.01f;
   // h of the offset filter on the posed displacements, metres
   // (runtime/offset_filter.h); 0 = none, the paper's form.

@@ -103,6 +103,13 @@ void check_scalars(const Checker& c, const Model& m) {
           std::to_string(kMaxBodyVertexStride));
   if (!(std::isfinite(m.skinning_prior) && m.skinning_prior >= 0.0f))
     c.bad("skinning_prior is " + std::to_string(m.skinning_prior) + ", expected a finite value >= 0");
+  if (!(std::isfinite(m.skinning_prior_radius) && m.skinning_prior_radius >= 0.0f &&
+        m.skinning_prior_radius <= kMaxSkinningPriorRadius))
+    c.bad("skinning_prior_radius is " + std::to_string(m.skinning_prior_radius) + ", expected 0.." +
+          std::to_string(kMaxSkinningPriorRadius) + " m");
+  if (!(std::isfinite(m.skinning_prior_floor) && m.skinning_prior_floor >= 1e-12f &&
+        m.skinning_prior_floor <= 1.0f))
+    c.bad("skinning_prior_floor is " + std::to_string(m.skinning_prior_floor) + ", expected 1e-12..1");
   c.finite(m.refinement_scale, "refinement_scale");
   if (!(std::isfinite(m.offset_filter_length) && m.offset_filter_length >= 0.0f &&
         m.offset_filter_length <= kMaxOffsetFilterLength))
