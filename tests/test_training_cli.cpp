@@ -97,13 +97,17 @@ TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
   EXPECT_EQ(lines(root + "/ablation/ablation.csv"), 5);
 }
 
-// A data set as pleat datagen leaves it (splits.json), named by "dataset";
-// `pleat-train evaluate` scores LBS and a model on its test split.
-TEST(TrainingCli, EvaluateScoresTheTestSplitOfADataSet) {
+// A data set as pleat datagen leaves it (splits.json, with a twin of the
+// sequence), named by "dataset"; `pleat-train evaluate` scores LBS, the
+// noise floor and a model on every split, side by side.
+TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   const std::string root = pleat_test::temp_dir("training_evaluate");
   pleat_test::write_skirt_walk(root + "/set");
-  std::ofstream(root + "/set/splits.json")
-      << R"({"train": ["skirt_walk"], "validation": [], "test": ["skirt_walk"]})";
+  // The twin's skirt sits 5 mm further out: the noise floor is those 5 mm
+  // (a little less where blended skinning shortens them).
+  pleat_test::write_skirt_walk(root + "/set", 0.025, "skirt_walk.twin");
+  std::ofstream(root + "/set/splits.json") << R"({"train": ["skirt_walk"], "validation": [],
+      "test": ["skirt_walk"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
   std::ofstream(root + "/schedule.json")
       << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
   std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
@@ -118,19 +122,38 @@ TEST(TrainingCli, EvaluateScoresTheTestSplitOfADataSet) {
                                     &text),
             0)
       << text;
+  EXPECT_NE(text.find("### Training split: 1 sequences"), std::string::npos) << text;
+  EXPECT_EQ(text.find("### Validation split"), std::string::npos) << "the set has no validation sequence";
   EXPECT_NE(text.find("### Test split: 1 sequences"), std::string::npos) << text;
   EXPECT_NE(text.find("| model |"), std::string::npos) << "a row per model, named by its file" << text;
   EXPECT_EQ(text.find("held-out garments"), std::string::npos) << "no held-out garment in this set";
-  EXPECT_EQ(lines(root + "/report.md"), 7) << "blank, title, blank, header, rule, LBS, the model";
-  // The LBS row is the baseline command's number (both score the same frames).
-  ASSERT_EQ(pleat_test::run_command(trainer + " baseline " + root + "/config.json 2>&1", &baseline), 0);
-  const size_t at = baseline.find("E_verts ");
-  ASSERT_NE(at, std::string::npos) << baseline;
+  EXPECT_EQ(lines(root + "/report.md"), 19)
+      << "per split: blank, title, blank, header, rule, LBS, noise floor, the model; blank, two summaries";
+  const std::string floor_row = "| noise floor (twin simulations, 1 of 1 sequences) | ";
+  ASSERT_NE(text.find(floor_row), std::string::npos) << text;
+  const double floor = std::stod(text.substr(text.find(floor_row) + floor_row.size()));
+  EXPECT_GT(floor, 0.4);
+  EXPECT_LE(floor, 0.5);
+  // The summary lines, one per model and split, carry the same numbers.
   const std::string row = "| LBS (nearest body weights) | ";
   ASSERT_NE(text.find(row), std::string::npos) << text;
-  EXPECT_NEAR(std::stod(text.substr(text.find(row) + row.size())), std::stod(baseline.substr(at + 8)), 1e-3)
-      << baseline << "\n"
-      << text;
+  const double lbs = std::stod(text.substr(text.find(row) + row.size()));
+  const size_t summary = text.find("summary: model=model split=train e_verts_cm=");
+  ASSERT_NE(summary, std::string::npos) << text;
+  EXPECT_NE(text.find("summary: model=model split=test e_verts_cm="), std::string::npos) << text;
+  const std::string line = text.substr(summary, text.find('\n', summary) - summary);
+  char lbs_text[32], floor_text[32];
+  std::snprintf(lbs_text, sizeof lbs_text, " lbs_e_verts_cm=%.3f ", lbs);
+  std::snprintf(floor_text, sizeof floor_text, " noise_floor_cm=%.3f", floor);
+  EXPECT_NE(line.find(lbs_text), std::string::npos) << line;
+  EXPECT_NE(line.find(floor_text), std::string::npos) << line;
+  // baseline is evaluate without a model: the same LBS rows.
+  ASSERT_EQ(pleat_test::run_command(trainer + " baseline " + root + "/config.json 2>/dev/null", &baseline),
+            0);
+  EXPECT_NE(baseline.find(text.substr(text.find(row), text.find('\n', text.find(row)) - text.find(row))),
+            std::string::npos)
+      << baseline;
+  EXPECT_EQ(baseline.find("summary:"), std::string::npos) << "no model, no summary";
 
   // --stages adds a row per earlier stage; the whole model's row stays the same.
   std::string staged;

@@ -4,6 +4,7 @@
 
 #include "body/skinning.h"
 #include "capi/pleat.h"
+#include "core/error.h"
 #include "spectral/band_split.h"
 
 namespace pleat::training {
@@ -88,6 +89,25 @@ MetricsResult lbs_baseline(const Dataset& data) {
         predicted.push_back(static_cast<float>(posed.data()[i]));
     }
     accumulate(&total, sequence_metrics(s, predicted.data()));
+  }
+  return total;
+}
+
+MetricsResult twin_difference(const Dataset& data, const Dataset& twins) {
+  if (twins.sequences().size() != data.sequences().size())
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "twin_difference: " + std::to_string(twins.sequences().size()) +
+                                           " twins for " + std::to_string(data.sequences().size()) +
+                                           " sequences");
+  MetricsResult total;
+  for (size_t i = 0; i < data.sequences().size(); ++i) {
+    const TrainingSequence &s = data.sequences()[i], &t = twins.sequences()[i];
+    if (t.frame_count() != s.frame_count() || t.truth.size(1) != s.truth.size(1))
+      fail(PLEAT_ERROR_INVALID_ARGUMENT,
+           "twin of sequence " + std::to_string(i) + " has " + std::to_string(t.frame_count()) +
+               " frames of " + std::to_string(t.truth.size(1)) + " vertices, the sequence " +
+               std::to_string(s.frame_count()) + " of " + std::to_string(s.truth.size(1)));
+    const torch::Tensor twin = t.truth.contiguous();
+    accumulate(&total, sequence_metrics(s, twin.data_ptr<float>()));
   }
   return total;
 }

@@ -20,6 +20,11 @@ void accumulate(MetricsResult* total, const MetricsResult& m);
 // vertex (no network): the "LBS" row of the comparison tables.
 MetricsResult lbs_baseline(const Dataset& data);
 
+// The noise floor: each sequence's simulation scored against its twin's
+// (datagen twins: the same job with a slightly heavier cloth and a longer
+// lead-in), frame-weighted. twins[i] is the twin of data.sequences()[i].
+MetricsResult twin_difference(const Dataset& data, const Dataset& twins);
+
 // Table I's metrics: their names in model files and checkpoints, their fields.
 struct TableMetric {
   const char* name;

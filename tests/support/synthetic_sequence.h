@@ -42,8 +42,10 @@ inline pleat::TriMesh skirt(double hip_height) {
   return m;
 }
 
-// Writes one 31-frame sequence into root/skirt_walk and returns that folder.
-inline std::string write_skirt_walk(const std::string& root) {
+// Writes one 31-frame sequence into root/<name> and returns that folder; the
+// skirt is pushed `push` metres outwards.
+inline std::string write_skirt_walk(const std::string& root, double push = 0.02,
+                                    const std::string& name = "skirt_walk") {
   const std::string body_dir = pleat_test::asset_dir() + "/body";
   const Body body = MakeHumanModel::load(body_dir)->body(makehuman_default_beta());
   const Motion walk = retarget_motion(
@@ -56,7 +58,7 @@ inline std::string write_skirt_walk(const std::string& root) {
   Points3d pushed = rest.vertices;
   for (Eigen::Index v = 0; v < pushed.rows(); ++v) {
     Eigen::Vector3d radial(pushed(v, 0), 0, pushed(v, 2) - 0.01);
-    pushed.row(v) += 0.02 * radial.normalized().transpose();
+    pushed.row(v) += push * radial.normalized().transpose();
   }
   const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, rest.vertices);
   SkinWeights weights;
@@ -94,7 +96,7 @@ inline std::string write_skirt_walk(const std::string& root) {
     }
     for (int k = 0; k < 3; ++k) d.root_positions.push_back(float(walk.root_translation(f, k)));
   }
-  const std::string dir = root + "/skirt_walk";
+  const std::string dir = root + "/" + name;
   write_sequence(dir, d);
   return dir;
 }

@@ -7,19 +7,24 @@
 //   pleat-train export config.json -o model.pleat  the kept epoch as a model file
 //   pleat-train ablation config.json              the four runs of the paper's Table I and
 //                                                <output>/ablation.md
-//   pleat-train baseline config.json              metrics of plain LBS (nearest body weights)
-//                                                on the validation (else training) sequences
+//   pleat-train baseline config.json [--splits ...] evaluate without a model: plain LBS (nearest
+//                                                body weights) and the noise floor on each split
 //   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
-//                     [-o report.md]             Table I on the test sequences: LBS and each
-//                                                model (run by the runtime, at its default_top_k
-//                                                or K joints per vertex), all of them and split
-//                                                into seen / held-out garments
+//                     [--splits train,validation,test] [-o report.md]
+//                                                Table I on each split, side by side: LBS, the
+//                                                noise floor (where the data set has twins), and
+//                                                each model (run by the runtime, at its
+//                                                default_top_k or K joints per vertex); the test
+//                                                split also into seen / held-out garments; then
+//                                                one `summary:` line per model and split
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "ablation.h"
@@ -37,7 +42,7 @@ const char* kUsage =
     "       pleat-train ablation config.json\n"
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
-    "[--top-k K] [-o report.md]\n"
+    "[--top-k K] [--splits train,validation,test] [-o report.md]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -82,20 +87,6 @@ int ablation(int argc, char** argv) {
   return 0;
 }
 
-int baseline(int argc, char** argv) {
-  if (argc != 3) throw std::invalid_argument("baseline needs a config file");
-  const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
-  const pleat::training::Dataset data(c.validation.empty() ? c.train : c.validation);
-  const pleat::MetricsResult m = pleat::training::lbs_baseline(data);
-  std::printf("LBS baseline on %zu sequences (%llu frames):\n", data.sequences().size(),
-              static_cast<unsigned long long>(m.frame_count));
-  std::printf("  E_verts %.4f cm  E_vnorm %.3f deg  E_fnorm %.3f deg  E_edge %.3f %%  E_curv %.4f\n",
-              m.e_verts_cm, m.e_vnorm_deg, m.e_fnorm_deg, m.e_edge_percent, m.e_curv);
-  std::printf("  E_low %.4f cm  E_mid %.4f cm  E_high %.4f cm  self-collision %.3f %%\n", m.e_low_cm,
-              m.e_mid_cm, m.e_high_cm, m.self_collision_percent);
-  return 0;
-}
-
 bool held_out_garment(const std::string& dir) {
   std::ifstream in(dir + "/meta.json");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -120,10 +111,19 @@ std::string table_row(const std::string& name, const pleat::MetricsResult& m) {
   return row;
 }
 
+// One split of the report: LBS, the noise floor where the data set has twins
+// of these sequences, then each model.
+struct SplitRows {
+  std::string split;  // "train", "validation", "test"
+  pleat::MetricsResult lbs, noise_floor;
+  bool has_noise_floor = false;
+  std::vector<std::pair<std::string, pleat::MetricsResult>> models;
+};
+
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
-  std::vector<std::string> models;
+  std::vector<std::string> models, splits;
   std::string output;
   bool stages = false;
   pleat::runtime::InstanceOptions options;
@@ -135,30 +135,56 @@ int evaluate(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--top-k") == 0 && i + 1 < argc) {
       options.top_k = std::stoi(argv[++i]);
       if (options.top_k < 1) throw std::invalid_argument("--top-k needs a count of at least 1");
+    } else if (std::strcmp(argv[i], "--splits") == 0 && i + 1 < argc) {
+      std::stringstream list(argv[++i]);
+      for (std::string name; std::getline(list, name, ',');) {
+        if (name != "train" && name != "validation" && name != "test")
+          throw std::invalid_argument("--splits takes train, validation and test, not '" + name + "'");
+        splits.push_back(name);
+      }
     } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
       output = argv[++i];
     } else {
       throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
     }
   }
-  if (c.test.empty()) throw std::invalid_argument("the config names no test sequences");
-  std::vector<std::string> seen, held_out;
-  for (const std::string& d : c.test) (held_out_garment(d) ? held_out : seen).push_back(d);
+  if (splits.empty()) splits = {"train", "validation", "test"};
+  const auto folders = [&](const std::string& split) -> const std::vector<std::string>& {
+    return split == "train" ? c.train : split == "validation" ? c.validation : c.test;
+  };
+  if (c.test.empty() && std::find(splits.begin(), splits.end(), "test") != splits.end())
+    throw std::invalid_argument("the config names no test sequences (or leave test out of --splits)");
   std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>> loaded;
   for (const std::string& m : models)
     loaded.emplace_back(model_label(m, models), pleat::runtime::load_model_file(m));
   std::string report;
-  const auto section = [&](const std::string& title, const std::vector<std::string>& dirs) {
-    if (dirs.empty()) return;
+  std::vector<SplitRows> summary;
+  const auto section = [&](const std::string& title, const std::string& split,
+                           const std::vector<std::string>& dirs) {
+    if (dirs.empty()) return SplitRows{};
     std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
     const pleat::training::Dataset data(dirs);
-    const pleat::MetricsResult lbs = pleat::training::lbs_baseline(data);
+    SplitRows rows;
+    rows.split = split;
+    rows.lbs = pleat::training::lbs_baseline(data);
     report +=
         "\n### " + title + ": " + std::to_string(dirs.size()) + " sequences, " +
-        std::to_string(lbs.frame_count) + " frames\n\n" +
+        std::to_string(rows.lbs.frame_count) + " frames\n\n" +
         "| | E_verts cm | E_vnorm deg | E_fnorm deg | E_edge % | E_curv | E_low cm | E_mid cm | E_high cm | "
         "self-collision % |\n|---|---|---|---|---|---|---|---|---|---|\n" +
-        table_row("LBS (nearest body weights)", lbs);
+        table_row("LBS (nearest body weights)", rows.lbs);
+    std::vector<std::string> with_twin, twins;
+    for (const std::string& d : dirs)
+      if (const auto t = c.twins.find(d); t != c.twins.end())
+        with_twin.push_back(d), twins.push_back(t->second);
+    if (!twins.empty()) {
+      rows.noise_floor = pleat::training::twin_difference(pleat::training::Dataset(with_twin),
+                                                          pleat::training::Dataset(twins));
+      rows.has_noise_floor = true;
+      report += table_row("noise floor (twin simulations, " + std::to_string(twins.size()) + " of " +
+                              std::to_string(dirs.size()) + " sequences)",
+                          rows.noise_floor);
+    }
     for (const auto& [name, model] : loaded) {
       if (stages) {
         report +=
@@ -168,15 +194,38 @@ int evaluate(int argc, char** argv) {
             name + ", blend-shape stage",
             pleat::training::model_metrics(data, model, pleat::runtime::Stage::blend_shapes, options));
       }
-      report += table_row(
+      rows.models.emplace_back(
           name, pleat::training::model_metrics(data, model, pleat::runtime::Stage::refinement, options));
+      report += table_row(name, rows.models.back().second);
     }
+    return rows;
   };
-  section("Test split", c.test);
-  if (!seen.empty() && !held_out.empty()) {
-    section("Test, garments seen in training", seen);
-    section("Test, held-out garments", held_out);
+  for (const std::string& split : splits) {
+    const std::vector<std::string>& dirs = folders(split);
+    const std::string title = split == "train"        ? "Training split"
+                              : split == "validation" ? "Validation split"
+                                                      : "Test split";
+    summary.push_back(section(title, split, dirs));
+    if (split != "test") continue;
+    std::vector<std::string> seen, held_out;
+    for (const std::string& d : dirs) (held_out_garment(d) ? held_out : seen).push_back(d);
+    if (!seen.empty() && !held_out.empty()) {
+      section("Test, garments seen in training", "test_seen", seen);
+      section("Test, held-out garments", "test_held_out", held_out);
+    }
   }
+  // One machine-readable line per model and split (issue 22's report format).
+  report += "\n";
+  for (const SplitRows& rows : summary)
+    for (const auto& [name, m] : rows.models) {
+      char floor[32] = "none";
+      if (rows.has_noise_floor) std::snprintf(floor, sizeof floor, "%.3f", rows.noise_floor.e_verts_cm);
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "summary: model=%s split=%s e_verts_cm=%.3f lbs_e_verts_cm=%.3f noise_floor_cm=%s\n",
+                    name.c_str(), rows.split.c_str(), m.e_verts_cm, rows.lbs.e_verts_cm, floor);
+      report += line;
+    }
   std::fputs(report.c_str(), stdout);
   if (!output.empty()) {
     pleat::AtomicFile f(output);
@@ -195,7 +244,7 @@ int main(int argc, char** argv) {
     if (command == "train") return train(argc, argv);
     if (command == "export") return export_model(argc, argv);
     if (command == "ablation") return ablation(argc, argv);
-    if (command == "baseline") return baseline(argc, argv);
+    if (command == "baseline") return evaluate(argc, argv);  // evaluate without a model
     if (command == "evaluate") return evaluate(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
