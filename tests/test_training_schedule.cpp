@@ -135,3 +135,25 @@ TEST(TrainingSchedule, DemoScheduleIsThePapersWithShorterAdvancesCurvatureSmooth
     }
   }
 }
+
+// The per-asset schedule (decision 0010) fits the data first: no term whose
+// minimum is the body's own skinning (skinning or offset smoothness) in any
+// phase, the supervised phase moves on only once validation E_verts stops
+// improving, and the later phases still add the paper's normal, collision
+// and self-collision terms.
+TEST(TrainingSchedule, PerAssetScheduleHasNoTermWhoseMinimumIsLbs) {
+  const Schedule s = read_schedule(schedule_file("per_asset.json"));
+  ASSERT_GE(s.phases.size(), 3u);
+  LossWeights seen;
+  for (const Phase& p : s.phases) {
+    for (const auto& [name, weight] : p.weights) seen[name] = weight;
+    EXPECT_FALSE(p.weights.count("skinning_smoothness")) << p.name;
+    EXPECT_FALSE(p.weights.count("offset_smoothness")) << p.name;
+  }
+  const Phase& first = s.phases.front();
+  EXPECT_EQ(first.weights.at("vertex"), 100);
+  EXPECT_GT(first.weights.at("k_mid"), 0) << "frequency-divided supervision";
+  EXPECT_GT(first.plateau_epochs, 0);
+  EXPECT_EQ(first.epochs, 0) << "no fixed cut-off while the data term still improves";
+  for (const char* term : {"normal", "collision", "self_collision"}) EXPECT_GT(seen[term], 0) << term;
+}
