@@ -166,6 +166,8 @@ TEST(CapiModel, InitialisedModelDescribesItselfAndRoundTripsThroughAFile) {
   EXPECT_DOUBLE_EQ(info.frame_rate, 30.0);
   EXPECT_GT(info.parameter_count, 100000u);
   EXPECT_EQ(info.offset_filter_length, 0.0) << "the paper's form: no offset filter";
+  EXPECT_EQ(info.skinning_prior_radius, 0.0) << "the nearest body vertex's weights";
+  EXPECT_DOUBLE_EQ(info.skinning_prior_floor, double(1e-6f));
   EXPECT_STREQ(pleat_model_joint_name(model.get(), 2), "arm");
   EXPECT_EQ(pleat_model_joint_name(model.get(), 3), nullptr);
   EXPECT_EQ(pleat_model_joint_name(nullptr, 0), nullptr);

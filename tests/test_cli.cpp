@@ -97,6 +97,7 @@ TEST(Cli, InitModelAndBakeWriteAGarmentCache) {
   EXPECT_NE(text.find("joints              31 (Hips ... RightToeBase)"), std::string::npos) << text;
   ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " inspect " + dir + "/m.pleat", &text), 0) << text;
   EXPECT_NE(text.find("variant             flexigat"), std::string::npos) << text;
+  EXPECT_NE(text.find("skinning prior      nearest body vertex, floor 1e-06"), std::string::npos) << text;
 
   std::vector<std::vector<float>> frames;
   for (const char* stage : {"skinning", "full"}) {

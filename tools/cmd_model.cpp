@@ -66,6 +66,11 @@ void print_model_info(const pleat_model* model) {
     std::printf("offset filter       h = %g cm\n", i.offset_filter_length * 100.0);
   else
     std::printf("offset filter       none\n");
+  if (i.skinning_prior_radius > 0.0)
+    std::printf("skinning prior      body weights within %g cm, floor %g\n", i.skinning_prior_radius * 100.0,
+                i.skinning_prior_floor);
+  else
+    std::printf("skinning prior      nearest body vertex, floor %g\n", i.skinning_prior_floor);
 }
 
 int run_init_model(const Args& args) {

@@ -277,6 +277,11 @@ typedef struct pleat_model_info {
   double frame_rate;       /* poses must come at this rate */
   uint64_t parameter_count;
   double offset_filter_length; /* metres: h of the offset filter (docs/runtime.md); 0 = none */
+  /* The skinning prior's reach (docs/models.md): body weights averaged within
+     this radius, metres (0 = the nearest body vertex's), and the floor f of
+     its log(w + f). */
+  double skinning_prior_radius;
+  double skinning_prior_floor;
 } pleat_model_info;
 
 /* The paper's initialisation for a skeleton (pleat_model_initialize). */

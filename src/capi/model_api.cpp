@@ -99,6 +99,8 @@ pleat_status pleat_model_get_info(const pleat_model* model, pleat_model_info* ou
     info.frame_rate = m.frame_rate;
     info.parameter_count = static_cast<uint64_t>(runtime::parameter_count(m));
     info.offset_filter_length = m.offset_filter_length;
+    info.skinning_prior_radius = m.skinning_prior_radius;
+    info.skinning_prior_floor = m.skinning_prior_floor;
     write_result(info, out_info, "out_info");
   });
 }

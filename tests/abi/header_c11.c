@@ -184,7 +184,9 @@ PIN(pleat_model_info, code_width, 28);
 PIN(pleat_model_info, frame_rate, 32);
 PIN(pleat_model_info, parameter_count, 40);
 PIN(pleat_model_info, offset_filter_length, 48);
-SIZE(pleat_model_info, 56);
+PIN(pleat_model_info, skinning_prior_radius, 56);
+PIN(pleat_model_info, skinning_prior_floor, 64);
+SIZE(pleat_model_info, 72);
 
 PIN(pleat_model_init_options, struct_size, 0);
 PIN(pleat_model_init_options, variant, 4);
