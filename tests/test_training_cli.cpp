@@ -195,4 +195,15 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
       << R"({"dataset": "nothing", "schedule": "schedule.json", "output": "x"})";
   EXPECT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/none.json 2>&1", &text), 1);
   EXPECT_NE(text.find("splits.json is missing"), std::string::npos) << text;
+
+  // A data set with test sequences only (datagen still running): the floor
+  // and LBS can be read already, but nothing can be trained on it.
+  std::ofstream(root + "/set/splits.json") << R"({"train": [], "validation": [], "test": ["skirt_walk"],
+      "twins": {"skirt_walk": "skirt_walk.twin"}})";
+  ASSERT_EQ(pleat_test::run_command(trainer + " baseline " + root + "/config.json 2>&1", &baseline), 0)
+      << baseline;
+  EXPECT_NE(baseline.find(floor_row), std::string::npos) << baseline;
+  std::string refused;
+  EXPECT_EQ(pleat_test::run_command(trainer + " train " + root + "/config.json 2>&1", &refused), 1);
+  EXPECT_NE(refused.find("train lists no sequence"), std::string::npos) << refused;
 }

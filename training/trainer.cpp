@@ -147,7 +147,6 @@ TrainerConfig read_trainer_config(const std::string& path) {
   } catch (const Json::exception& e) {
     bad_config(path, e.what());
   }
-  if (c.train.empty()) bad_config(path, "train lists no sequence");
   if (c.epochs < 1 || c.batch_frames < 1) bad_config(path, "epochs and batch_frames must be >= 1");
   if (c.sequences_per_batch < 0) bad_config(path, "sequences_per_batch must be >= 0");
   c.model.seed = c.seed;
@@ -160,6 +159,10 @@ Trainer::Trainer(TrainerConfig config)
       validation_(config_.validation),
       schedule_(config_.schedule),
       rng_(config_.seed) {
+  // Checked here, not when reading: evaluate and baseline read configs whose
+  // data set has only test sequences so far.
+  if (train_.sequences().empty())
+    fail(PLEAT_ERROR_FORMAT, "training config for '" + config_.output + "': train lists no sequence");
   const Body& body = train_.sequences().front().body;
   std::vector<runtime::ShapeEntry> shape;
   for (const ShapeParameter& p : body.shape) shape.push_back({p.name, static_cast<float>(p.default_value)});
@@ -447,7 +450,8 @@ bool Trainer::load_checkpoint() {
                config_.model.offset_filter_length);
   same_setting("skinning_prior_radius", meta.value("skinning_prior_radius", 0.0f),
                config_.model.skinning_prior_radius);
-  same_setting("skinning_prior_floor", meta.value("skinning_prior_floor", runtime::kDefaultSkinningPriorFloor),
+  same_setting("skinning_prior_floor",
+               meta.value("skinning_prior_floor", runtime::kDefaultSkinningPriorFloor),
                config_.model.skinning_prior_floor);
   {
     torch::NoGradGuard no_grad;

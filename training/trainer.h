@@ -41,7 +41,8 @@ struct TrainerConfig {
 };
 
 // Reads a configuration file (JSON; paths relative to the file).
-// Throws PLEAT_ERROR_FORMAT naming the file and key.
+// Throws PLEAT_ERROR_FORMAT naming the file and key. An empty training list
+// is read (evaluate only needs the test split); the Trainer refuses it.
 TrainerConfig read_trainer_config(const std::string& path);
 
 // One weighted term of the loss (its schedule name; the weight applied).
