@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -90,6 +91,29 @@ TEST(DatagenConfig, ShippedDemoConfigIsAsLargeAsTheDataSetMustBe) {
   EXPECT_GT(c.validation, 0);
   EXPECT_GT(c.test, 0);
   EXPECT_GT(c.held_out, 0);
+}
+
+// The per-asset data set (training.md): one garment on one body, every clip
+// of the asset pack with a split of its own for validation and test, and
+// twins of the test sequences for the noise floor.
+TEST(DatagenConfig, ShippedPerAssetConfigCoversEveryClipOnce) {
+  const Config c = read_config(pleat_test::source_dir() + "/data/datagen/dress.json");
+  EXPECT_EQ(c.garments.size(), 1u);
+  EXPECT_EQ(c.shapes.size(), 1u);
+  EXPECT_TRUE(c.mirror);
+  std::set<std::string> clips, splits;
+  for (const MotionSpec& m : c.motions) {
+    EXPECT_TRUE(clips.insert(m.name).second) << m.name << " twice";
+    splits.insert(m.split);
+  }
+  size_t in_pack = 0;
+  for (const auto& entry :
+       std::filesystem::recursive_directory_iterator(pleat_test::asset_dir() + "/motions"))
+    in_pack +=
+        entry.path().extension() == ".bvh" && entry.path().parent_path().filename() != "makehuman_poses";
+  EXPECT_EQ(clips.size(), in_pack) << "every CMU clip of the pack";
+  EXPECT_EQ(splits, (std::set<std::string>{"train", "validation", "test"}));
+  EXPECT_EQ(c.twins.split, "test");
 }
 
 TEST(DatagenConfig, ErrorsNameTheField) {
