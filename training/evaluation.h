@@ -35,7 +35,7 @@ const std::vector<TableMetric>& table_metrics();
 // The largest of model's Table I metrics as a fraction of the baseline's
 // (1.5: one metric is 50 % above LBS; below 1: every metric beats it). A
 // metric the baseline has at zero is left out, since nothing can beat it.
-// The trainer keeps the validation epoch with the lowest value.
+// The trainer prints it after each epoch; it does not choose the kept epoch.
 double worst_ratio(const MetricsResult& model, const MetricsResult& baseline);
 
 // The model run by the runtime (runtime/instance.h, up to `stage`, as a host
