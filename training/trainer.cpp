@@ -10,6 +10,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unistd.h>
 
 #include "capi/pleat.h"
 #include "core/error.h"
@@ -50,7 +51,11 @@ std::string iso_now() {
   return text;
 }
 
+// The batch bar redraws one line with '\r': in a log file (stderr not a
+// terminal) it would be thousands of lines, so there only the epoch lines print.
 void progress(int64_t epoch, int64_t epochs, size_t done, size_t total, double loss) {
+  static const bool terminal = isatty(fileno(stderr)) != 0;
+  if (!terminal) return;
   const int width = 30, filled = total ? static_cast<int>(width * done / total) : width;
   std::fprintf(stderr, "\repoch %lld/%lld [%s%s] %zu/%zu batches  loss %.4f ", static_cast<long long>(epoch),
                static_cast<long long>(epochs), std::string(static_cast<size_t>(filled), '=').c_str(),
