@@ -10,6 +10,7 @@ packages=(
   python3-numpy python3-scipy python3-matplotlib
   nlohmann-json3-dev
   libtorch-dev libopenblas0-pthread
+  abigail-tools
   blender
 )
 
