@@ -4,4 +4,6 @@
    that abidw reads. The library itself is built without debug information. */
 #include "capi/pleat.h"
 
-PLEAT_EXPORT const pleat_api* pleat_abi_probe(void) { return NULL; }
+PLEAT_EXPORT const pleat_api* pleat_abi_probe(void) {
+  return NULL;
+}
