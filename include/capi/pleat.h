@@ -608,57 +608,122 @@ PLEAT_EXPORT pleat_status pleat_mesh_write_obj(const char* path, const float* po
 typedef struct pleat_api {
   uint32_t struct_size; /* sizeof(pleat_api) of the library */
   uint32_t version;     /* PLEAT_API_VERSION it serves */
+  /* Each entry is the exported pleat_<entry> function; its declaration above
+     is the full contract. */
+  /* (major << 16) | (minor << 8) | patch of the library */
   uint32_t (*version_number)(void);
+  /* message of this thread's last failed call ("" if none) */
   const char* (*last_error)(void);
-  const char* (*status_name)(pleat_status);
-  pleat_status (*garment_load)(const char*, const pleat_garment_load_options*, pleat_garment**);
-  pleat_status (*garment_create)(const float*, size_t, const uint32_t*, size_t,
-                                 const pleat_garment_load_options*, pleat_garment**);
-  void (*garment_destroy)(pleat_garment*);
-  pleat_status (*garment_get_report)(const pleat_garment*, pleat_mesh_report*);
-  pleat_status (*garment_get_mesh)(const pleat_garment*, float*, size_t, uint32_t*, size_t);
-  pleat_status (*garment_prepare)(pleat_garment*, const pleat_prepare_options*);
-  pleat_status (*garment_get_band_info)(const pleat_garment*, pleat_band_info*);
-  pleat_status (*garment_save)(const pleat_garment*, const char*);
-  pleat_status (*garment_split_bands)(const pleat_garment*, pleat_const_frames, size_t, pleat_frames,
-                                      pleat_frames, pleat_frames);
-  pleat_status (*metrics_compute)(const pleat_garment*, pleat_const_frames, pleat_const_frames, size_t,
-                                  const pleat_metrics_options*, pleat_metrics*);
-  pleat_status (*cache_get_info)(const char*, uint32_t, pleat_cache_info*);
-  pleat_status (*cache_read)(const char*, uint32_t, pleat_frames, size_t);
-  pleat_status (*cache_write)(const char*, uint32_t, const pleat_garment*, pleat_const_frames, size_t, size_t,
-                              double);
-  pleat_status (*body_load)(const char*, const pleat_body_load_options*, pleat_body**);
-  void (*body_destroy)(pleat_body*);
-  pleat_status (*body_get_info)(const pleat_body*, pleat_body_info*);
-  const char* (*body_joint_name)(const pleat_body*, uint32_t);
-  const char* (*body_shape_name)(const pleat_body*, uint32_t);
-  pleat_status (*body_get_shape)(const pleat_body*, double*, size_t);
-  pleat_status (*body_set_shape)(pleat_body*, const double*, size_t);
-  pleat_status (*body_get_rest)(const pleat_body*, float*, size_t, uint32_t*, size_t, float*, size_t);
-  pleat_status (*body_pose_motion)(const pleat_body*, const pleat_motion*, size_t, size_t, pleat_frames);
-  pleat_status (*motion_load)(const char*, const pleat_motion_load_options*, pleat_motion**);
-  void (*motion_destroy)(pleat_motion*);
-  pleat_status (*motion_get_info)(const pleat_motion*, pleat_motion_info*);
-  const char* (*motion_joint_name)(const pleat_motion*, uint32_t);
-  pleat_status (*motion_resample)(const pleat_motion*, double, pleat_motion**);
-  pleat_status (*motion_retarget)(const pleat_motion*, const pleat_body*, const char*, pleat_motion**);
-  pleat_status (*motion_get_frames)(const pleat_motion*, size_t, size_t, float*, size_t, float*, size_t);
-  pleat_status (*mesh_write_obj)(const char*, const float*, size_t, const uint32_t*, size_t);
-  pleat_status (*body_create)(const pleat_body_desc*, pleat_body**);
-  pleat_status (*body_pose)(const pleat_body*, const float*, const float*, size_t, pleat_frames);
-  pleat_status (*model_load)(const char*, pleat_model**);
-  pleat_status (*model_initialize)(const pleat_body*, const pleat_model_init_options*, pleat_model**);
-  pleat_status (*model_save)(const pleat_model*, const char*);
-  void (*model_destroy)(pleat_model*);
-  pleat_status (*model_get_info)(const pleat_model*, pleat_model_info*);
-  const char* (*model_joint_name)(const pleat_model*, uint32_t);
-  pleat_status (*instance_create)(const pleat_model*, const pleat_garment*, const pleat_body*,
-                                  const pleat_instance_options*, pleat_instance**);
-  void (*instance_destroy)(pleat_instance*);
-  pleat_status (*instance_get_info)(const pleat_instance*, pleat_instance_info*);
-  pleat_status (*instance_evaluate)(pleat_instance*, const pleat_poses*, size_t, size_t,
-                                    const pleat_evaluate_options*, const pleat_evaluate_outputs*);
+  /* the constant's name of a status code, e.g. "PLEAT_ERROR_IO" */
+  const char* (*status_name)(pleat_status status);
+  /* reads a mesh file (OBJ, glTF, FBX, ...) or a prepared .pleatg */
+  pleat_status (*garment_load)(const char* path, const pleat_garment_load_options* options,
+                               pleat_garment** out_garment);
+  /* a garment from caller arrays (copied) */
+  pleat_status (*garment_create)(const float* positions, size_t vertex_count, const uint32_t* triangles,
+                                 size_t triangle_count, const pleat_garment_load_options* options,
+                                 pleat_garment** out_garment);
+  /* frees a garment; NULL is a no-op */
+  void (*garment_destroy)(pleat_garment* garment);
+  /* copies the validation report of the load */
+  pleat_status (*garment_get_report)(const pleat_garment* garment, pleat_mesh_report* out_report);
+  /* copies the welded rest positions and triangles (either may be NULL) */
+  pleat_status (*garment_get_mesh)(const pleat_garment* garment, float* positions, size_t positions_capacity,
+                                   uint32_t* triangles, size_t triangles_capacity);
+  /* computes the spectral bands and geodesic neighbourhoods; once, before sharing */
+  pleat_status (*garment_prepare)(pleat_garment* garment, const pleat_prepare_options* options);
+  /* the band split of a prepared garment */
+  pleat_status (*garment_get_band_info)(const pleat_garment* garment, pleat_band_info* out_info);
+  /* writes the prepared garment (.pleatg), atomically */
+  pleat_status (*garment_save)(const pleat_garment* garment, const char* path);
+  /* splits frames into low, mid and high bands (any may be NULL) */
+  pleat_status (*garment_split_bands)(const pleat_garment* garment, pleat_const_frames positions,
+                                      size_t frame_count, pleat_frames low, pleat_frames mid,
+                                      pleat_frames high);
+  /* the paper's Table I metrics of predicted against true frames */
+  pleat_status (*metrics_compute)(const pleat_garment* garment, pleat_const_frames predicted,
+                                  pleat_const_frames truth, size_t frame_count,
+                                  const pleat_metrics_options* options, pleat_metrics* out_metrics);
+  /* reads the header of a PC2 or MDD file, or counts an OBJ sequence */
+  pleat_status (*cache_get_info)(const char* path, uint32_t format, pleat_cache_info* out_info);
+  /* reads every frame of a cache into the caller buffer */
+  pleat_status (*cache_read)(const char* path, uint32_t format, pleat_frames out, size_t capacity);
+  /* writes frames as a cache, atomically */
+  pleat_status (*cache_write)(const char* path, uint32_t format, const pleat_garment* garment,
+                              pleat_const_frames positions, size_t frame_count, size_t vertex_count,
+                              double frame_rate);
+  /* reads a body: MakeHuman assets folder, SMPL-layout .npz or skinned FBX/glTF */
+  pleat_status (*body_load)(const char* path, const pleat_body_load_options* options, pleat_body** out_body);
+  /* frees a body; NULL is a no-op */
+  void (*body_destroy)(pleat_body* body);
+  /* counts of a body */
+  pleat_status (*body_get_info)(const pleat_body* body, pleat_body_info* out_info);
+  /* the joint's name, NULL past the end; valid while the body lives */
+  const char* (*body_joint_name)(const pleat_body* body, uint32_t index);
+  /* the shape parameter's name, NULL past the end */
+  const char* (*body_shape_name)(const pleat_body* body, uint32_t index);
+  /* copies the current shape parameters */
+  pleat_status (*body_get_shape)(const pleat_body* body, double* values, size_t capacity);
+  /* reshapes the body (mesh, joints) from shape values */
+  pleat_status (*body_set_shape)(pleat_body* body, const double* values, size_t count);
+  /* copies the rest mesh and joint positions (any buffer may be NULL) */
+  pleat_status (*body_get_rest)(const pleat_body* body, float* positions, size_t positions_capacity,
+                                uint32_t* triangles, size_t triangles_capacity, float* joints,
+                                size_t joints_capacity);
+  /* poses the body's vertices along frames of a motion */
+  pleat_status (*body_pose_motion)(const pleat_body* body, const pleat_motion* motion, size_t first_frame,
+                                   size_t frame_count, pleat_frames out);
+  /* reads a motion: BVH, or an animation clip of an FBX/glTF file */
+  pleat_status (*motion_load)(const char* path, const pleat_motion_load_options* options,
+                              pleat_motion** out_motion);
+  /* frees a motion; NULL is a no-op */
+  void (*motion_destroy)(pleat_motion* motion);
+  /* frame count, rate and joint count of a motion */
+  pleat_status (*motion_get_info)(const pleat_motion* motion, pleat_motion_info* out_info);
+  /* the joint's name, NULL past the end */
+  const char* (*motion_joint_name)(const pleat_motion* motion, uint32_t index);
+  /* a new motion resampled to frame_rate (quaternion slerp) */
+  pleat_status (*motion_resample)(const pleat_motion* motion, double frame_rate, pleat_motion** out_motion);
+  /* a new motion on the body's skeleton: joints by name, plus an optional map file */
+  pleat_status (*motion_retarget)(const pleat_motion* motion, const pleat_body* body,
+                                  const char* joint_map_path, pleat_motion** out_motion);
+  /* copies joint rotations and root positions of frames */
+  pleat_status (*motion_get_frames)(const pleat_motion* motion, size_t first_frame, size_t frame_count,
+                                    float* rotations, size_t rotations_capacity, float* root_positions,
+                                    size_t root_capacity);
+  /* writes a triangle mesh as OBJ, atomically */
+  pleat_status (*mesh_write_obj)(const char* path, const float* positions, size_t vertex_count,
+                                 const uint32_t* triangles, size_t triangle_count);
+  /* a body from caller arrays (copied) */
+  pleat_status (*body_create)(const pleat_body_desc* desc, pleat_body** out_body);
+  /* poses the body from caller rotations and root positions */
+  pleat_status (*body_pose)(const pleat_body* body, const float* rotations, const float* root_positions,
+                            size_t frame_count, pleat_frames out);
+  /* reads a model file (.pleat, FlatBuffers; verified) */
+  pleat_status (*model_load)(const char* path, pleat_model** out_model);
+  /* the paper's untrained initialisation for the body's skeleton */
+  pleat_status (*model_initialize)(const pleat_body* body, const pleat_model_init_options* options,
+                                   pleat_model** out_model);
+  /* writes a model file, atomically */
+  pleat_status (*model_save)(const pleat_model* model, const char* path);
+  /* frees a model; NULL is a no-op */
+  void (*model_destroy)(pleat_model* model);
+  /* architecture summary of a model */
+  pleat_status (*model_get_info)(const pleat_model* model, pleat_model_info* out_info);
+  /* the joint's name in the model's skeleton, NULL past the end */
+  const char* (*model_joint_name)(const pleat_model* model, uint32_t index);
+  /* binds a model to a prepared garment and a body */
+  pleat_status (*instance_create)(const pleat_model* model, const pleat_garment* garment,
+                                  const pleat_body* body, const pleat_instance_options* options,
+                                  pleat_instance** out_instance);
+  /* frees an instance; NULL is a no-op */
+  void (*instance_destroy)(pleat_instance* instance);
+  /* counts and settings, fixed at binding */
+  pleat_status (*instance_get_info)(const pleat_instance* instance, pleat_instance_info* out_info);
+  /* frames of poses into the requested outputs; allocates nothing */
+  pleat_status (*instance_evaluate)(pleat_instance* instance, const pleat_poses* poses, size_t first_frame,
+                                    size_t frame_count, const pleat_evaluate_options* options,
+                                    const pleat_evaluate_outputs* outputs);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer
