@@ -205,5 +205,7 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(baseline.find(floor_row), std::string::npos) << baseline;
   std::string refused;
   EXPECT_EQ(pleat_test::run_command(trainer + " train " + root + "/config.json 2>&1", &refused), 1);
-  EXPECT_NE(refused.find("train lists no sequence"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("training config '" + root + "/config.json': no training sequence"),
+            std::string::npos)
+      << refused;
 }

@@ -1,5 +1,7 @@
 #include "trainer.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -10,7 +12,6 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <unistd.h>
 
 #include "capi/pleat.h"
 #include "core/error.h"
@@ -89,6 +90,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
   }
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   TrainerConfig c;
+  c.source = path;
   try {
     if (j.contains("dataset") || j.contains("dataset_name")) {
       // A data set written by pleat datagen: its splits.json names the folders.
@@ -167,7 +169,9 @@ Trainer::Trainer(TrainerConfig config)
   // Checked here, not when reading: evaluate and baseline read configs whose
   // data set has only test sequences so far.
   if (train_.sequences().empty())
-    fail(PLEAT_ERROR_FORMAT, "training config for '" + config_.output + "': train lists no sequence");
+    fail(PLEAT_ERROR_FORMAT, "training config '" + config_.source +
+                                 "': no training sequence (a data set's splits.json lists them once "
+                                 "pleat datagen has simulated them)");
   const Body& body = train_.sequences().front().body;
   std::vector<runtime::ShapeEntry> shape;
   for (const ShapeParameter& p : body.shape) shape.push_back({p.name, static_cast<float>(p.default_value)});

@@ -28,6 +28,7 @@ struct TrainerConfig {
   std::map<std::string, std::string> twins;
   Schedule schedule;
   std::string schedule_source = "inline";
+  std::string source = "inline config";  // the config file, for messages
   std::string output;  // folder: checkpoint.pt, checkpoint.json, best.pt, log.csv, model.pleat
   int64_t epochs = 100;
   int64_t batch_frames = 4;
