@@ -608,8 +608,8 @@ PLEAT_EXPORT pleat_status pleat_mesh_write_obj(const char* path, const float* po
 typedef struct pleat_api {
   uint32_t struct_size; /* sizeof(pleat_api) of the library */
   uint32_t version;     /* PLEAT_API_VERSION it serves */
-  /* Each entry is the exported pleat_<entry> function; its declaration above
-     is the full contract. */
+  /* Each entry is the exported pleat_<entry> function (version_number is
+     pleat_version); its declaration above is the full contract. */
   /* (major << 16) | (minor << 8) | patch of the library */
   uint32_t (*version_number)(void);
   /* message of this thread's last failed call ("" if none) */
