@@ -50,3 +50,15 @@ TEST(ObjReader, ErrorsNameTheLine) {
                "corner 'x' is not an index");
   expect_error([] { read_obj_file_order("/nonexistent/g.obj"); }, PLEAT_ERROR_IO, "/nonexistent/g.obj");
 }
+
+TEST(ObjReader, ReportsTheGroupOfEveryTriangle) {
+  const std::string path = write("groups.obj",
+                                 "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\ng body\nf 1 2 3 4\n"
+                                 "g helper skirt \r\nf 2 3 4\ng body\nf 4 3 1\n");
+  ObjGroups groups;
+  groups.names = {"stale"};
+  const TriMesh m = read_obj_file_order(path, &groups);
+  ASSERT_EQ(m.triangles.rows(), 5);
+  EXPECT_EQ(groups.names, (std::vector<std::string>{"body", "helper skirt"})) << "first appearance, trimmed";
+  EXPECT_EQ(groups.of_triangle, (std::vector<int32_t>{-1, 0, 0, 1, 0})) << "a quad gives two triangles";
+}

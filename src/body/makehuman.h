@@ -51,9 +51,10 @@ std::vector<std::pair<std::string, double>> makehuman_category_values(const Eige
 class MakeHumanModel {
  public:
   // Loads base.obj, the rig and its weights and the target manifest from
-  // `body_dir`. Target files are parsed on first use and kept (per process,
-  // shared by both rigs of the same directory); the model itself is cached
-  // per (directory, rig), so a second load is free. Throws PLEAT_ERROR_IO for
+  // `body_dir`. Target files are parsed on first use and kept with the
+  // model (both rigs of one directory share them). While a caller holds a
+  // model, loading the same (directory, rig) again returns it for free; the
+  // last holder's release frees it all. Throws PLEAT_ERROR_IO for
   // a missing file and PLEAT_ERROR_FORMAT naming the file and line/field for
   // bad content.
   static std::shared_ptr<const MakeHumanModel> load(const std::string& body_dir,

@@ -1,5 +1,6 @@
 #include "io/obj_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -10,7 +11,7 @@
 
 namespace pleat {
 
-TriMesh read_obj_file_order(const std::string& path) {
+TriMesh read_obj_file_order(const std::string& path, ObjGroups* groups) {
   std::ifstream in(path);
   if (!in) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
   std::vector<double> xyz;
@@ -21,6 +22,8 @@ TriMesh read_obj_file_order(const std::string& path) {
     fail(PLEAT_ERROR_FORMAT, path + ": line " + std::to_string(number) + ": " + why);
   };
   std::vector<int32_t> face;
+  int32_t group = -1;
+  if (groups) *groups = {};
   while (std::getline(in, line)) {
     ++number;
     std::istringstream s(line);
@@ -30,7 +33,8 @@ TriMesh read_obj_file_order(const std::string& path) {
       for (double& c : p) {
         char* end = nullptr;
         if (!(s >> word)) bad("is not 'v x y z'");
-        c = std::strtod(word.c_str(), &end);  // unlike operator>>, reads "nan" and "inf" to refuse them by name
+        c = std::strtod(word.c_str(),
+                        &end);  // unlike operator>>, reads "nan" and "inf" to refuse them by name
         if (*end != '\0') bad("is not 'v x y z'");
         if (!std::isfinite(c)) bad("a coordinate is not finite");
       }
@@ -49,8 +53,17 @@ TriMesh read_obj_file_order(const std::string& path) {
         face.push_back(static_cast<int32_t>(resolved));
       }
       if (face.size() < 3) bad("a face needs at least three corners");
-      for (size_t k = 1; k + 1 < face.size(); ++k)
+      for (size_t k = 1; k + 1 < face.size(); ++k) {
         corners.insert(corners.end(), {face[0], face[k], face[k + 1]});
+        if (groups) groups->of_triangle.push_back(group);
+      }
+    } else if (word == "g" && groups) {
+      std::string name;
+      std::getline(s >> std::ws, name);
+      while (!name.empty() && (name.back() == ' ' || name.back() == '\r')) name.pop_back();
+      const auto it = std::find(groups->names.begin(), groups->names.end(), name);
+      group = static_cast<int32_t>(it - groups->names.begin());
+      if (it == groups->names.end()) groups->names.push_back(name);
     }
   }
   TriMesh mesh;

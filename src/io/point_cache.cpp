@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "io/atomic_file.h"
 #include "io/obj_writer.h"
+#include "io/text_file.h"
 
 namespace pleat {
 namespace {
@@ -93,14 +94,6 @@ void read_at(std::FILE* file, const std::string& path, int64_t offset, void* out
     if (std::ferror(file)) fail(PLEAT_ERROR_IO, "cannot read " + in_quotes(path));
     fail_format(path, "truncated while reading (the file changed during the read?)");
   }
-}
-
-std::string read_text_file(const std::string& path) {
-  int64_t size = 0;
-  FilePtr file = open_for_reading(path, &size);
-  std::string text(static_cast<size_t>(size), '\0');
-  if (size > 0) read_at(file.get(), path, 0, text.data(), text.size());
-  return text;
 }
 
 // The exact size a header promises; counts are int32, so the product can
