@@ -234,7 +234,12 @@ Config parse_config(const std::string& text, const std::string& path) {
     MotionSpec spec;
     spec.source = resolve(assets, m.text("source", "", true));
     require_file(m, spec.source, "source");
-    spec.name = checked_name(m, "name", fs::path(spec.source).stem().string());
+    spec.speed = m.number("speed", 1.0, 0.25, 4.0);
+    // A time-warped clip is another clip: its default name says the rate.
+    std::ostringstream stem;
+    stem << fs::path(spec.source).stem().string();
+    if (spec.speed != 1.0) stem << "x" << spec.speed;
+    spec.name = checked_name(m, "name", stem.str());
     if (m.has("map")) {
       spec.map = resolve(base, m.text("map"));
       require_file(m, spec.map, "map");

@@ -73,6 +73,7 @@ struct MotionSpec {
   std::string map;          // absolute joint map (io/motion_ops.h format), or empty: equal names
   std::string split;        // "train", "validation" or "test": all its segments go there
   int64_t skip_frames = 0;  // source frames dropped first (CMU cgspeed files open with a reference pose)
+  double speed = 1.0;       // playback rate: 1.25 plays the clip 25 % faster (new dynamics, simulated)
 };
 
 struct Config {

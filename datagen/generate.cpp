@@ -34,19 +34,23 @@ Json job_identity(const Config& c, const Job& job) {
   const MotionSpec& m = c.motions[job.segment.motion];
   Json shape = Json::object();
   for (const auto& [k, v] : c.shapes[job.shape].values) shape[k] = v;
-  return {{"pipeline", kPipelineVersion},
-          {"garment", g.name},
-          {"shape", shape},
-          {"motion", m.name},
-          {"map", fs::path(m.map).filename().string()},
-          {"first", job.segment.first},
-          {"count", job.segment.count},
-          {"mirrored", job.segment.mirrored},
-          {"skip_frames", m.skip_frames},
-          {"frame_rate", c.frame_rate},
-          {"rig", c.rig},
-          {"simulator", simulator_settings(c, g)},
-          {"check", {c.check.max_distance, c.check.max_penetration, c.check.max_penetrating_fraction}}};
+  Json identity = {
+      {"pipeline", kPipelineVersion},
+      {"garment", g.name},
+      {"shape", shape},
+      {"motion", m.name},
+      {"map", fs::path(m.map).filename().string()},
+      {"first", job.segment.first},
+      {"count", job.segment.count},
+      {"mirrored", job.segment.mirrored},
+      {"skip_frames", m.skip_frames},
+      {"frame_rate", c.frame_rate},
+      {"rig", c.rig},
+      {"simulator", simulator_settings(c, g)},
+      {"check", {c.check.max_distance, c.check.max_penetration, c.check.max_penetrating_fraction}}};
+  // Only when set, so the sequences of data sets made before the option keep their hash.
+  if (m.speed != 1.0) identity["speed"] = m.speed;
+  return identity;
 }
 
 // The "simulator" object of a finished sequence's meta.json (empty if unreadable).
@@ -95,6 +99,7 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   s["held_out_garment"] = job.held_out_garment;
   if (!job.twin_of.empty()) s["twin_of"] = job.twin_of;
   s["motion_map"] = c.motions[job.segment.motion].map;
+  if (c.motions[job.segment.motion].speed != 1.0) s["motion_speed"] = c.motions[job.segment.motion].speed;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
   m.simulator_json = s.dump();

@@ -67,6 +67,7 @@ Assets load_assets(const Config& config) {
                                              "' skips " + std::to_string(m.skip_frames) + " of its " +
                                              std::to_string(source.frame_count) + " frames");
     source = cut_motion(source, m.skip_frames, source.frame_count - m.skip_frames);
+    source.frame_rate *= m.speed;  // the same poses, reached sooner (or later)
     a.motions.push_back(resample_motion(source, config.frame_rate));
     a.maps.push_back(m.map.empty() ? JointMap{} : read_joint_map(m.map));
   }

@@ -292,6 +292,31 @@ TEST(DatagenPlan, TwinsRepeatTheirSplitPerturbed) {
                PLEAT_ERROR_FORMAT, "perturbs nothing");
 }
 
+// A clip played faster is resampled from a time-warped source: frame k at
+// speed 2 is frame 2k at speed 1, and it is another clip, named by its rate.
+TEST(DatagenInputs, SpeedTimeWarpsTheClip) {
+  std::string text = config_text();
+  const std::string first = "/motions/cmu_mb/12_03.bvh\"}";
+  text.replace(text.find(first), first.size(),
+               first + ",\n  {\"source\": \"" + pleat_test::asset_dir() +
+                   "/motions/cmu_mb/12_03.bvh\", \"speed\": 2}");
+  const Config c = parse_config(text, "/tmp/c.json");
+  ASSERT_EQ(c.motions.size(), 4u);
+  EXPECT_EQ(c.motions[1].name, "12_03x2");
+  EXPECT_DOUBLE_EQ(c.motions[1].speed, 2.0);
+  EXPECT_DOUBLE_EQ(c.motions[0].speed, 1.0);
+  const Assets a = load_assets(c);
+  const Motion &normal = a.motions[0], &fast = a.motions[1];
+  EXPECT_NEAR(static_cast<double>(fast.frame_count), (normal.frame_count - 1) / 2.0 + 1, 1.0);
+  for (int64_t k : {int64_t{0}, int64_t{7}, fast.frame_count - 1}) {
+    EXPECT_NEAR((fast.root_translation.row(k) - normal.root_translation.row(2 * k)).norm(), 0.0, 1e-9) << k;
+    for (size_t j = 0; j < fast.skeleton.names.size(); ++j)
+      EXPECT_NEAR(fast.frame(k)[j].angularDistance(normal.frame(2 * k)[j]), 0.0, 1e-9) << k << " " << j;
+  }
+  text.replace(text.find("\"speed\": 2"), 10, "\"speed\": 0");
+  expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[1].speed' must be in");
+}
+
 TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {
   Motion clip;
   clip.skeleton.names = {"root", "arm"};
