@@ -7,9 +7,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
 #include "runtime/model_file.h"
 #include "support/synthetic_sequence.h"
 #include "support/test_support.h"
+#include "trainer.h"
 
 namespace {
 
@@ -208,4 +210,34 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(refused.find("training config '" + root + "/config.json': no training sequence"),
             std::string::npos)
       << refused;
+}
+
+// "dataset" may name several sets: their splits are joined in order, and
+// every set's twins are kept (extra training clips beside the set that holds
+// validation and test).
+TEST(TrainingCli, ADataSetListJoinsTheSplits) {
+  const std::string root = pleat_test::temp_dir("training_dataset_list");
+  std::filesystem::create_directories(root + "/main");
+  std::filesystem::create_directories(root + "/extra");
+  std::ofstream(root + "/main/splits.json")
+      << R"({"train": ["a", "b"], "validation": ["v"], "test": ["t"], "twins": {"t": "t.twin"}})";
+  std::ofstream(root + "/extra/splits.json") << R"({"train": ["c"], "validation": [], "test": []})";
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
+  std::ofstream(root + "/config.json")
+      << R"({"dataset": ["main", "extra"], "schedule": "schedule.json", "output": "run"})";
+  const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(root + "/config.json");
+  EXPECT_EQ(c.train, (std::vector<std::string>{root + "/main/a", root + "/main/b", root + "/extra/c"}));
+  EXPECT_EQ(c.validation, std::vector<std::string>{root + "/main/v"});
+  EXPECT_EQ(c.test, std::vector<std::string>{root + "/main/t"});
+  ASSERT_EQ(c.twins.size(), 1u);
+  EXPECT_EQ(c.twins.at(root + "/main/t"), root + "/main/t.twin");
+  std::ofstream(root + "/missing.json")
+      << R"({"dataset": ["main", "nowhere"], "schedule": "schedule.json", "output": "run"})";
+  try {
+    pleat::training::read_trainer_config(root + "/missing.json");
+    ADD_FAILURE() << "a missing set is refused";
+  } catch (const pleat::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("nowhere"), std::string::npos) << e.what();
+  }
 }

@@ -97,24 +97,32 @@ TrainerConfig read_trainer_config(const std::string& path) {
       if (j.contains("train") || j.contains("validation") || j.contains("test") ||
           (j.contains("dataset") && j.contains("dataset_name")))
         bad_config(path, "give either \"dataset\" or \"dataset_name\", or the train/validation/test lists");
-      std::filesystem::path root;
-      if (j.contains("dataset")) {
-        root = j["dataset"].get<std::string>();
-        if (root.is_relative()) root = base / root;
-      } else {
-        root = default_dataset_dir(j["dataset_name"].get<std::string>());
+      // One data set, or a list whose splits are joined (e.g. a set of extra
+      // training clips next to the set that holds validation and test).
+      const Json& named = j.contains("dataset") ? j["dataset"] : j["dataset_name"];
+      for (const Json& name : named.is_array() ? named : Json::array({named})) {
+        std::filesystem::path root;
+        if (j.contains("dataset")) {
+          root = name.get<std::string>();
+          if (root.is_relative()) root = base / root;
+        } else {
+          root = default_dataset_dir(name.get<std::string>());
+        }
+        std::ifstream splits_file(root / "splits.json");
+        if (!splits_file)
+          fail(PLEAT_ERROR_IO, "training config '" + path + "': no data set at '" + root.string() +
+                                   "' (splits.json is missing; generate it with pleat datagen)");
+        const Json splits = Json::parse(splits_file);
+        const std::pair<const char*, std::vector<std::string>*> lists[] = {
+            {"train", &c.train}, {"validation", &c.validation}, {"test", &c.test}};
+        for (const auto& [split, list] : lists) {
+          const std::vector<std::string> more = folders(splits.at(split), root);
+          list->insert(list->end(), more.begin(), more.end());
+        }
+        if (splits.contains("twins"))
+          for (const auto& [sequence, twin] : splits["twins"].items())
+            c.twins[(root / sequence).string()] = (root / twin.get<std::string>()).string();
       }
-      std::ifstream splits_file(root / "splits.json");
-      if (!splits_file)
-        fail(PLEAT_ERROR_IO, "training config '" + path + "': no data set at '" + root.string() +
-                                 "' (splits.json is missing; generate it with pleat datagen)");
-      const Json splits = Json::parse(splits_file);
-      c.train = folders(splits.at("train"), root);
-      c.validation = folders(splits.at("validation"), root);
-      c.test = folders(splits.at("test"), root);
-      if (splits.contains("twins"))
-        for (const auto& [sequence, twin] : splits["twins"].items())
-          c.twins[(root / sequence).string()] = (root / twin.get<std::string>()).string();
     } else {
       c.train = folders(j.at("train"), base);
       if (j.contains("validation")) c.validation = folders(j["validation"], base);
