@@ -116,6 +116,26 @@ TEST(DatagenConfig, ShippedPerAssetConfigCoversEveryClipOnce) {
   EXPECT_EQ(c.twins.split, "test");
 }
 
+// The extra training clips of the per-asset set: every training clip of
+// dress.json slowed and sped up, and no validation or test clip at any speed,
+// so the test clips stay unseen.
+TEST(DatagenConfig, ShippedSpeedConfigWarpsOnlyTheTrainingClips) {
+  const Config main = read_config(pleat_test::source_dir() + "/data/datagen/dress.json");
+  const Config speed = read_config(pleat_test::source_dir() + "/data/datagen/dress_speed.json");
+  std::set<std::pair<std::string, double>> expected, got;
+  for (const MotionSpec& m : main.motions)
+    if (m.split == "train")
+      for (double rate : {0.8, 1.3}) expected.insert({m.source, rate});
+  for (const MotionSpec& m : speed.motions) {
+    EXPECT_EQ(m.split, "train") << m.name;
+    got.insert({m.source, m.speed});
+  }
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(speed.validation + speed.test, 0);
+  EXPECT_EQ(speed.cloth.quality, main.cloth.quality) << "simulated as the main set is";
+  EXPECT_EQ(speed.collider, main.collider);
+}
+
 TEST(DatagenConfig, ErrorsNameTheField) {
   const auto I = PLEAT_ERROR_FORMAT;
   expect_error([] { parsed(", \"cloth\": {\"qualty\": 7}"); }, I, "'cloth.qualty' is not a known setting");
