@@ -135,6 +135,127 @@ std::string duration(double seconds) {
   return b;
 }
 
+// What earlier runs left for a job: a complete folder of the same hash
+// ("kept"), a rejection of the same hash ("rejected"); true when it is to be
+// simulated (status left empty), false when --only skips it.
+bool classify(const std::string& out, const Job& job, const std::string& hash, const GenerateOptions& options,
+              SequenceOutcome* o) {
+  const std::string dir = out + "/" + job.name;
+  const std::string rejected = out + "/.rejected/" + job.name + ".json";
+  if (const Json recorded = sequence_complete(dir) ? recorded_simulator(dir) : Json::object();
+      recorded.value("job_hash", "") == hash) {
+    o->status = "kept";
+    const Json check = recorded.value("check", Json::object());
+    o->check.max_distance = check.value("max_distance", 0.0);
+    o->check.max_penetrating_fraction = check.value("max_penetrating_fraction", 0.0);
+    return false;
+  }
+  if (fs::exists(rejected)) {
+    std::ifstream in(rejected);
+    const Json j = Json::parse(in, nullptr, false);
+    if (!j.is_discarded() && j.value("job_hash", "") == hash) {
+      o->status = "rejected";
+      o->message = j.value("reason", "");
+      return false;
+    }
+  }
+  if (options.only.empty() || job.name.find(options.only) != std::string::npos) return true;
+  o->status = "skipped";
+  return false;
+}
+
+// Simulates one job: the sequence folder when the checks pass (every file
+// read back), else a rejection record; exceptions make it "failed".
+void simulate(const Config& c, const Assets& assets, const Job& job, const std::string& hash,
+              const std::string& out, int blender_threads, const FrameProgress& frames, SequenceOutcome* o) {
+  const std::string dir = out + "/" + job.name, work = out + "/.work/" + job.name;
+  try {
+    fs::remove(dir + "/meta.json");  // an older job's folder stops counting as complete first
+    const SequenceInputs in = prepare_sequence(c, assets, job);
+    const BlenderResult sim = run_blender(c, c.garments[job.garment], in, work, blender_threads, frames);
+    SequenceData d = sequence_of(c, job, in, sim, hash);
+    o->check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
+                                in.body->rest.triangles, d.meta.frame_count, c.check);
+    if (sim.collider_cache_error > 1e-4) {
+      o->check.passed = false;
+      o->check.reason = "Blender's collider strays " + std::to_string(sim.collider_cache_error) +
+                        " m from collider.pc2: the cache frames are mapped wrongly";
+    }
+    if (o->check.passed) {
+      record_check(o->check, &d.meta);
+      write_sequence(dir, d);
+      read_sequence(dir);  // every file written is read back and checked
+      fs::remove_all(work);
+      o->status = "done";
+    } else {
+      o->status = "rejected";
+      o->message = o->check.reason;
+      fs::create_directories(out + "/.rejected");
+      write_json(out + "/.rejected/" + job.name + ".json",
+                 {{"job_hash", hash}, {"reason", o->check.reason}, {"max_distance", o->check.max_distance}});
+    }
+  } catch (const std::exception& e) {
+    o->status = "failed";
+    o->message = e.what();
+  }
+}
+
+// The sequences running now: name and (frames done, frames in all) per worker.
+using Running = std::vector<std::pair<std::string, std::pair<int64_t, int64_t>>>;
+
+// One redrawn terminal line: a bar, the count, elapsed time, ETA and the
+// sequences in flight (partial sequences count by their simulated frames).
+void draw_progress(const Running& running, int done, size_t total, double elapsed) {
+  double partial = done;
+  std::string now;
+  for (const auto& [name, progress] : running)
+    if (!name.empty()) {
+      if (progress.second > 0) partial += double(progress.first) / double(progress.second);
+      now += " | " + name + " " + std::to_string(progress.first) + "/" + std::to_string(progress.second);
+    }
+  const int width = 24, filled = static_cast<int>(width * partial / double(total));
+  const std::string bar =
+      std::string(static_cast<size_t>(filled), '#') + std::string(static_cast<size_t>(width - filled), '.');
+  const std::string eta = partial > 0.05 ? duration(elapsed * (double(total) - partial) / partial) : "?";
+  std::fprintf(stderr, "\r\033[K[%s] %d/%zu, %s, eta %s%s", bar.c_str(), done, total,
+               duration(elapsed).c_str(), eta.c_str(), now.substr(0, 120).c_str());
+}
+
+// report.tsv (every job's outcome) and splits.json (the accepted sequences
+// per split, and each accepted twin of an accepted sequence).
+void write_report(const std::string& out, const std::vector<Job>& jobs,
+                  const std::vector<SequenceOutcome>& outcomes) {
+  std::string tsv = "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmessage\n";
+  Json splits = {{"train", Json::array()}, {"validation", Json::array()}, {"test", Json::array()}};
+  Json twins = Json::object();
+  const auto accepted = [&](const SequenceOutcome& s) {
+    return (s.status == "done" || s.status == "kept") && sequence_complete(out + "/" + s.name);
+  };
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    const SequenceOutcome& o = outcomes[i];
+    char numbers[96];
+    std::snprintf(numbers, sizeof numbers, "%.1f\t%.4f\t%.4f", o.seconds, o.check.max_distance,
+                  o.check.max_penetrating_fraction);
+    std::string message = o.message;
+    for (char& ch : message)
+      if (ch == '\t' || ch == '\n') ch = ' ';
+    tsv += o.name + "\t" + o.split + "\t" + o.status + "\t" + numbers + "\t" + message + "\n";
+    if (!accepted(o)) continue;
+    if (jobs[i].twin_of.empty()) {
+      splits[o.split].push_back(o.name);
+    } else {
+      const auto original = std::find_if(outcomes.begin(), outcomes.end(),
+                                         [&](const SequenceOutcome& s) { return s.name == jobs[i].twin_of; });
+      if (original != outcomes.end() && accepted(*original)) twins[jobs[i].twin_of] = o.name;
+    }
+  }
+  AtomicFile f(out + "/report.tsv");
+  f.write(tsv);
+  f.commit();
+  if (!twins.empty()) splits["twins"] = twins;
+  write_json(out + "/splits.json", splits);
+}
+
 }  // namespace
 
 int GenerateReport::count(const std::string& status) const {
@@ -173,90 +294,38 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
   std::vector<size_t> todo;
   std::vector<std::string> hashes(jobs.size());
   for (size_t i = 0; i < jobs.size(); ++i) {
-    SequenceOutcome& o = outcomes[i];
-    o.name = jobs[i].name;
-    o.split = jobs[i].split;
+    outcomes[i].name = jobs[i].name;
+    outcomes[i].split = jobs[i].split;
     hashes[i] = job_hash(job_identity(settings(jobs[i]), jobs[i]).dump());
-    const std::string dir = out + "/" + jobs[i].name;
-    const std::string rejected = out + "/.rejected/" + jobs[i].name + ".json";
     if (options.dry_run) {
-      o.status = "planned";
-    } else if (const Json recorded = sequence_complete(dir) ? recorded_simulator(dir) : Json::object();
-               recorded.value("job_hash", "") == hashes[i]) {
-      o.status = "kept";
-      const Json check = recorded.value("check", Json::object());
-      o.check.max_distance = check.value("max_distance", 0.0);
-      o.check.max_penetrating_fraction = check.value("max_penetrating_fraction", 0.0);
-    } else if (fs::exists(rejected) && [&] {
-                 std::ifstream in(rejected);
-                 const Json j = Json::parse(in, nullptr, false);
-                 if (j.is_discarded() || j.value("job_hash", "") != hashes[i]) return false;
-                 o.message = j.value("reason", "");
-                 return true;
-               }()) {
-      o.status = "rejected";
-    } else if (options.only.empty() || jobs[i].name.find(options.only) != std::string::npos) {
+      outcomes[i].status = "planned";
+      std::printf("%-10s %s\n", jobs[i].split.c_str(), jobs[i].name.c_str());
+    } else if (classify(out, jobs[i], hashes[i], options, &outcomes[i])) {
       todo.push_back(i);
-    } else {
-      o.status = "skipped";
     }
-  }
-  if (options.dry_run) {
-    for (const Job& j : jobs) std::printf("%-10s %s\n", j.split.c_str(), j.name.c_str());
   }
 
   std::atomic<size_t> next{0};
   std::atomic<int> finished{0};
   std::mutex mutex;  // guards `running` and the outcome lines
-  std::vector<std::pair<std::string, std::pair<int64_t, int64_t>>> running(static_cast<size_t>(options.jobs));
+  Running running(static_cast<size_t>(options.jobs));
   const bool tty = isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
   const auto worker = [&](size_t slot) {
     for (size_t k; (k = next++) < todo.size();) {
       const size_t i = todo[k];
-      const Job& job = jobs[i];
       SequenceOutcome& o = outcomes[i];
       const auto t0 = std::chrono::steady_clock::now();
-      const std::string dir = out + "/" + job.name, work = out + "/.work/" + job.name;
       {
         std::lock_guard<std::mutex> lock(mutex);
-        running[slot] = {job.name, {0, 0}};
+        running[slot] = {jobs[i].name, {0, 0}};
       }
-      try {
-        fs::remove(dir + "/meta.json");  // an older job's folder stops counting as complete first
-        const Config& c = settings(job);
-        const SequenceInputs in = prepare_sequence(c, assets, job);
-        const BlenderResult sim = run_blender(c, c.garments[job.garment], in, work, options.blender_threads,
-                                              [&](int64_t done, int64_t total) {
-                                                std::lock_guard<std::mutex> lock(mutex);
-                                                running[slot].second = {done, total};
-                                              });
-        SequenceData d = sequence_of(c, job, in, sim, hashes[i]);
-        o.check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
-                                   in.body->rest.triangles, d.meta.frame_count, config.check);
-        if (sim.collider_cache_error > 1e-4) {
-          o.check.passed = false;
-          o.check.reason = "Blender's collider strays " + std::to_string(sim.collider_cache_error) +
-                           " m from collider.pc2: the cache frames are mapped wrongly";
-        }
-        if (o.check.passed) {
-          record_check(o.check, &d.meta);
-          write_sequence(dir, d);
-          read_sequence(dir);  // every file written is read back and checked
-          fs::remove_all(work);
-          o.status = "done";
-        } else {
-          o.status = "rejected";
-          o.message = o.check.reason;
-          fs::create_directories(out + "/.rejected");
-          write_json(
-              out + "/.rejected/" + job.name + ".json",
-              {{"job_hash", hashes[i]}, {"reason", o.check.reason}, {"max_distance", o.check.max_distance}});
-        }
-      } catch (const std::exception& e) {
-        o.status = "failed";
-        o.message = e.what();
-      }
+      simulate(
+          settings(jobs[i]), assets, jobs[i], hashes[i], out, options.blender_threads,
+          [&](int64_t done, int64_t total) {
+            std::lock_guard<std::mutex> lock(mutex);
+            running[slot].second = {done, total};
+          },
+          &o);
       o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(mutex);
       running[slot] = {"", {0, 0}};
@@ -272,65 +341,20 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
     if (options.progress)
       std::fprintf(stderr, "%zu sequences planned, %zu to simulate in %s\n", jobs.size(), todo.size(),
                    out.c_str());
+    const auto start = std::chrono::steady_clock::now();
     std::vector<std::thread> threads;
     for (int t = 0; t < options.jobs; ++t) threads.emplace_back(worker, static_cast<size_t>(t));
     while (finished < static_cast<int>(todo.size())) {
       std::this_thread::sleep_for(std::chrono::milliseconds(500));
       if (!options.progress || !tty) continue;
       std::lock_guard<std::mutex> lock(mutex);
-      const int done = finished;
-      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      double partial = done;
-      std::string now;
-      for (const auto& [name, progress] : running)
-        if (!name.empty()) {
-          if (progress.second > 0) partial += double(progress.first) / double(progress.second);
-          now += " | " + name + " " + std::to_string(progress.first) + "/" + std::to_string(progress.second);
-        }
-      const int width = 24, filled = static_cast<int>(width * partial / double(todo.size()));
-      const std::string bar = std::string(static_cast<size_t>(filled), '#') +
-                              std::string(static_cast<size_t>(width - filled), '.');
-      const std::string eta =
-          partial > 0.05 ? duration(elapsed * (double(todo.size()) - partial) / partial) : "?";
-      std::fprintf(stderr, "\r\033[K[%s] %d/%zu, %s, eta %s%s", bar.c_str(), done, todo.size(),
-                   duration(elapsed).c_str(), eta.c_str(), now.substr(0, 120).c_str());
+      draw_progress(running, finished, todo.size(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
     for (std::thread& t : threads) t.join();
     if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   }
-
-  if (!options.dry_run) {
-    std::string tsv = "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmessage\n";
-    Json splits = {{"train", Json::array()}, {"validation", Json::array()}, {"test", Json::array()}};
-    Json twins = Json::object();  // sequence -> its twin, where both are accepted
-    const auto accepted = [&](const SequenceOutcome& s) {
-      return (s.status == "done" || s.status == "kept") && sequence_complete(out + "/" + s.name);
-    };
-    for (size_t i = 0; i < jobs.size(); ++i) {
-      const SequenceOutcome& o = outcomes[i];
-      char numbers[96];
-      std::snprintf(numbers, sizeof numbers, "%.1f\t%.4f\t%.4f", o.seconds, o.check.max_distance,
-                    o.check.max_penetrating_fraction);
-      std::string message = o.message;
-      for (char& ch : message)
-        if (ch == '\t' || ch == '\n') ch = ' ';
-      tsv += o.name + "\t" + o.split + "\t" + o.status + "\t" + numbers + "\t" + message + "\n";
-      if (!accepted(o)) continue;
-      if (jobs[i].twin_of.empty()) {
-        splits[o.split].push_back(o.name);
-      } else {
-        const auto original = std::find_if(outcomes.begin(), outcomes.end(), [&](const SequenceOutcome& s) {
-          return s.name == jobs[i].twin_of;
-        });
-        if (original != outcomes.end() && accepted(*original)) twins[jobs[i].twin_of] = o.name;
-      }
-    }
-    AtomicFile f(out + "/report.tsv");
-    f.write(tsv);
-    f.commit();
-    if (!twins.empty()) splits["twins"] = twins;
-    write_json(out + "/splits.json", splits);
-  }
+  if (!options.dry_run) write_report(out, jobs, outcomes);
   report.sequences = std::move(outcomes);
   return report;
 }
