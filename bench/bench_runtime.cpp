@@ -16,10 +16,10 @@
 #include <vector>
 
 #include "bench_support.h"
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
-#include "core/garment.h"
-#include "io/bvh.h"
+#include "garment/garment.h"
 #include "nn/tensor.h"
 #include "runtime/instance.h"
 #include "runtime/model_init.h"

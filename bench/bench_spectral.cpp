@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/garment.h"
 #include "core/topology.h"
+#include "garment/garment.h"
 #include "io/mesh_import.h"
 #include "spectral/band_split.h"
 #include "spectral/bands.h"

@@ -13,10 +13,10 @@
 
 #include "attention_op.h"
 #include "bench_support.h"
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
-#include "core/garment.h"
-#include "io/bvh.h"
+#include "garment/garment.h"
 #include "io/mesh_import.h"
 #include "network.h"
 #include "runtime/model_init.h"

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/geometry.h"
-#include "metrics/nearest_points.h"
+#include "core/nearest_points.h"
 
 namespace pleat::datagen {
 

@@ -4,12 +4,12 @@
 #include <filesystem>
 
 #include "body/body_source.h"
+#include "body/bvh.h"
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "core/nearest_points.h"
 #include "core/topology.h"
-#include "io/bvh.h"
 #include "io/obj_reader.h"
-#include "metrics/nearest_points.h"
 
 namespace pleat::datagen {
 

@@ -9,8 +9,8 @@
 #include <regex>
 #include <sstream>
 
+#include "body/bvh.h"
 #include "core/error.h"
-#include "io/bvh.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
 

@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include "body/body_source.h"
+#include "body/bvh.h"
 #include "body/motion_ops.h"
-#include "core/garment.h"
-#include "io/bvh.h"
+#include "core/nearest_points.h"
+#include "garment/garment.h"
 #include "io/mesh_import.h"
-#include "metrics/nearest_points.h"
 #include "runtime/instance.h"
 #include "runtime/model_file.h"
 #include "support/stage_outputs.h"

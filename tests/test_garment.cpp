@@ -6,10 +6,10 @@
 #include <limits>
 
 #include "core/error.h"
-#include "core/garment.h"
 #include "core/geodesic.h"
 #include "core/topology.h"
 #include "core/weld.h"
+#include "garment/garment.h"
 #include "support/test_support.h"
 
 using namespace pleat;
@@ -103,7 +103,7 @@ TEST(Topology, ComponentsAndGraph) {
 TEST(GarmentBuild, ReportOfACleanGrid) {
   auto m = pleat_test::grid(5, 4, 0.1f);
   Garment g = build_garment(to_points(m), to_triangles(m), {}, "grid");
-  const pleat_mesh_report& r = g.report;
+  const MeshReport& r = g.report;
   EXPECT_EQ(r.vertex_count, 20u);
   EXPECT_EQ(r.triangle_count, 24u);
   EXPECT_EQ(r.component_count, 1u);

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "io/garment_file.h"
+#include "garment/garment_file.h"
 #include "schema/garment_generated.h"
 #include "support/test_support.h"
 

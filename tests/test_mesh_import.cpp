@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "io/mesh_import.h"
 #include "support/test_support.h"
 

@@ -8,8 +8,8 @@
 #include "body/makehuman.h"
 #include "body/mhclo.h"
 #include "core/error.h"
+#include "core/nearest_points.h"
 #include "io/obj_reader.h"
-#include "metrics/nearest_points.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
 

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "runtime/offset_filter.h"
 
 using namespace pleat;

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <set>
 
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "core/error.h"
-#include "io/bvh.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
 

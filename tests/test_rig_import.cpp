@@ -1,4 +1,4 @@
-// Skinned characters through assimp (src/io/rig_import.*): a two-bone chain
+// Skinned characters through assimp (src/body/rig_import.*): a two-bone chain
 // with weights and a two-key clip, written by assimp's own glTF 2 exporter,
 // read back and posed; expected positions are worked out by hand.
 #include <assimp/scene.h>
@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "body/body.h"
-#include "io/rig_import.h"
+#include "body/rig_import.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "body/body.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "runtime/instance.h"
 #include "runtime/model_init.h"
 #include "spectral/bands.h"

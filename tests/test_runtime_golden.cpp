@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "body/body.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "runtime/binding.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"

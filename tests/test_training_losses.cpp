@@ -5,9 +5,9 @@
 #include <cmath>
 #include <functional>
 
-#include "core/garment.h"
 #include "core/geodesic.h"
 #include "core/geometry.h"
+#include "garment/garment.h"
 #include "losses.h"
 #include "metrics/curvature.h"
 #include "spectral/band_split.h"

@@ -9,10 +9,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
-#include "core/garment.h"
-#include "io/bvh.h"
+#include "garment/garment.h"
 #include "io/mesh_import.h"
 #include "network.h"
 #include "offset_filter_op.h"

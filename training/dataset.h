@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "body/body.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "io/sequence.h"
 #include "runtime/instance.h"
 

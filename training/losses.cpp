@@ -6,9 +6,9 @@
 #include <cmath>
 #include <map>
 
-#include "metrics/box_tree.h"
+#include "core/box_tree.h"
+#include "core/nearest_points.h"
 #include "metrics/curvature.h"
-#include "metrics/nearest_points.h"
 
 namespace pleat::training {
 namespace {

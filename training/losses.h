@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "spectral/bands.h"
 
 namespace pleat::training {

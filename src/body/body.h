@@ -2,7 +2,7 @@
 // A body: skeleton + rest mesh + skin weights + the shape vector β that made
 // them. Bodies come from the MakeHuman open model (body/makehuman.h), from an
 // SMPL-layout .npz (body/smpl_npz.h) or from any rigged FBX/glTF character
-// (io/rig_import.h); all of them end up as this one type.
+// (body/rig_import.h); all of them end up as this one type.
 //
 // Conventions (skeleton.h): metres, right-handed, Y up; joints parents-first.
 // The skeleton's rest_translation already holds the joints of the current

@@ -5,10 +5,10 @@
 #include <memory>
 
 #include "body/makehuman.h"
+#include "body/rig_import.h"
 #include "body/smpl_npz.h"
 #include "capi/pleat.h"
 #include "core/error.h"
-#include "io/rig_import.h"
 
 namespace pleat {
 namespace {

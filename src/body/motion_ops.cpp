@@ -229,20 +229,17 @@ double hip_height(const Skeleton& s) {
   return leg_length(p, s.parents, 0, low);
 }
 
-Motion retarget_motion(const Motion& source, const Skeleton& target, const RetargetOptions& options,
-                       RetargetReport* report) {
-  validate_motion(source, "retarget source");
-  validate_skeleton(target, "retarget target");
-  const Skeleton& ss = source.skeleton;
-  const int32_t nt = target.joint_count();
-  const int32_t ns = ss.joint_count();
-  RetargetReport local_report;
-  RetargetReport& rep = report ? *report : local_report;
-  rep = RetargetReport();
+namespace {
 
-  // Pairs.
+// The source joint of every target joint (-1: none): the map's lines first
+// (the first of a line's sources the source skeleton has), then equal names
+// for target joints the map does not name.
+std::vector<int32_t> pair_joints(const Skeleton& ss, const Skeleton& target, const RetargetOptions& options,
+                                 RetargetReport* rep) {
+  const int32_t nt = target.joint_count();
   std::vector<int32_t> pair(static_cast<size_t>(nt), -1);
-  std::vector<bool> target_named(static_cast<size_t>(nt), false), source_used(static_cast<size_t>(ns), false);
+  std::vector<bool> target_named(static_cast<size_t>(nt), false);
+  std::vector<bool> source_used(static_cast<size_t>(ss.joint_count()), false);
   if (options.map) {
     for (const JointMapEntry& e : options.map->entries) {
       const std::string where = options.map->source + ":" + std::to_string(e.line) + ": ";
@@ -251,7 +248,7 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
         if (options.missing_target == MissingJoint::kError)
           fail(PLEAT_ERROR_INVALID_ARGUMENT,
                where + "target joint '" + e.target + "' is not in the target skeleton");
-        rep.skipped_lines.push_back(where + "no target joint '" + e.target + "'");
+        rep->skipped_lines.push_back(where + "no target joint '" + e.target + "'");
         continue;
       }
       target_named[t] = true;
@@ -264,7 +261,7 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
         if (options.missing_source == MissingJoint::kError)
           fail(PLEAT_ERROR_INVALID_ARGUMENT,
                where + "source joint " + names + " is not in the source skeleton");
-        rep.skipped_lines.push_back(where + "no source joint " + names);
+        rep->skipped_lines.push_back(where + "no source joint " + names);
         continue;
       }
       pair[t] = s;
@@ -281,14 +278,17 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "retarget: the target root '" + target.names[0] +
                                            "' has no source joint (map it, e.g. '<source root> " +
                                            target.names[0] + "')");
+  return pair;
+}
 
-  // Rest poses.
-  std::vector<Eigen::Matrix3d> rs, rt;
-  std::vector<Eigen::Vector3d> ps, pt;
-  rest_pose(ss, &rs, &ps);
-  rest_pose(target, &rt, &pt);
+// Per target joint, the rotation that turns its rest direction towards its
+// paired children into the source's (inherited from the nearest paired
+// ancestor where it has none): bones of different rest poses line up.
+std::vector<Eigen::Matrix3d> rest_alignment(const Skeleton& target, const std::vector<int32_t>& pair,
+                                            const std::vector<Eigen::Vector3d>& ps,
+                                            const std::vector<Eigen::Vector3d>& pt) {
+  const int32_t nt = target.joint_count();
   const auto children = children_of(target);
-  // Alignment per paired target joint.
   const double eps = 1e-9 * std::max(1.0, hip_height(target));
   std::vector<Eigen::Matrix3d> align(static_cast<size_t>(nt), Eigen::Matrix3d::Identity());
   std::vector<int32_t> stack;
@@ -312,27 +312,53 @@ Motion retarget_motion(const Motion& source, const Skeleton& target, const Retar
     if (vt.norm() > eps && vs.norm() > 1e-12 * std::max(1.0, vs.norm()))
       align[t] = Eigen::Quaterniond::FromTwoVectors(vt, vs).toRotationMatrix();
   }
+  return align;
+}
 
-  // Root scale: ratio of leg lengths, from the paired root down the chain to
-  // the lowest paired joint (see leg_length).
+// Root scale: the ratio of leg lengths, from the paired root down the chain
+// to the lowest paired joint (see leg_length), unless the caller gives one.
+void choose_root_scale(const Skeleton& ss, const Skeleton& target, const std::vector<int32_t>& pair,
+                       const std::vector<Eigen::Vector3d>& ps, const std::vector<Eigen::Vector3d>& pt,
+                       double given, RetargetReport* rep) {
   int32_t low = 0;
-  for (int32_t t = 0; t < nt; ++t)
+  for (int32_t t = 0; t < target.joint_count(); ++t)
     if (pair[t] >= 0 && pt[t].y() < pt[low].y()) low = t;
-  rep.target_hip_height = leg_length(pt, target.parents, 0, low);
-  rep.source_hip_height = leg_length(ps, ss.parents, pair[0], pair[low]);
-  if (options.root_scale > 0.0) {
-    rep.root_scale = options.root_scale;
-  } else if (rep.source_hip_height > 1e-9 && rep.target_hip_height > 1e-9) {
-    rep.root_scale = rep.target_hip_height / rep.source_hip_height;
-  } else {
-    rep.root_scale = 1.0;
-  }
+  rep->target_hip_height = leg_length(pt, target.parents, 0, low);
+  rep->source_hip_height = leg_length(ps, ss.parents, pair[0], pair[low]);
+  if (given > 0.0)
+    rep->root_scale = given;
+  else if (rep->source_hip_height > 1e-9 && rep->target_hip_height > 1e-9)
+    rep->root_scale = rep->target_hip_height / rep->source_hip_height;
+  else
+    rep->root_scale = 1.0;
+}
 
+}  // namespace
+
+Motion retarget_motion(const Motion& source, const Skeleton& target, const RetargetOptions& options,
+                       RetargetReport* report) {
+  validate_motion(source, "retarget source");
+  validate_skeleton(target, "retarget target");
+  const Skeleton& ss = source.skeleton;
+  const int32_t nt = target.joint_count();
+  const int32_t ns = ss.joint_count();
+  RetargetReport local_report;
+  RetargetReport& rep = report ? *report : local_report;
+  rep = RetargetReport();
+
+  const std::vector<int32_t> pair = pair_joints(ss, target, options, &rep);
+  std::vector<Eigen::Matrix3d> rs, rt;
+  std::vector<Eigen::Vector3d> ps, pt;
+  rest_pose(ss, &rs, &ps);
+  rest_pose(target, &rt, &pt);
+  const std::vector<Eigen::Matrix3d> align = rest_alignment(target, pair, ps, pt);
+  choose_root_scale(ss, target, pair, ps, pt, options.root_scale, &rep);
   rep.source_of_target = pair;
   for (int32_t t = 0; t < nt; ++t)
     if (pair[t] < 0) rep.unmapped_targets.push_back(target.names[t]);
 
-  // Frames.
+  // Frames: each paired joint takes its source's global rotation change
+  // since rest, applied to its aligned rest; unpaired joints stay at rest.
   Motion out;
   out.skeleton = target;
   out.frame_rate = source.frame_rate;

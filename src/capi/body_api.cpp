@@ -5,11 +5,11 @@
 #include <filesystem>
 
 #include "body/body_source.h"
+#include "body/rig_import.h"
 #include "capi/firewall.h"
 #include "capi/frames.h"
 #include "capi/handles.h"
 #include "io/obj_writer.h"
-#include "io/rig_import.h"
 
 using namespace pleat;
 using namespace pleat::capi;

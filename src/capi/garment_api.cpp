@@ -6,9 +6,9 @@
 #include "capi/firewall.h"
 #include "capi/frames.h"
 #include "capi/handles.h"
-#include "core/garment.h"
 #include "core/geodesic.h"
-#include "io/garment_file.h"
+#include "garment/garment.h"
+#include "garment/garment_file.h"
 #include "io/mesh_import.h"
 #include "spectral/band_split.h"
 #include "spectral/bands.h"
@@ -80,7 +80,23 @@ void pleat_garment_destroy(pleat_garment* garment) {
 pleat_status pleat_garment_get_report(const pleat_garment* garment, pleat_mesh_report* out_report) {
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
-    write_result(garment->garment->report, out_report, "out_report");
+    const MeshReport& m = garment->garment->report;
+    pleat_mesh_report r{};
+    r.struct_size = sizeof r;
+    r.input_vertex_count = m.input_vertex_count;
+    r.vertex_count = m.vertex_count;
+    r.triangle_count = m.triangle_count;
+    r.welded_vertex_count = m.welded_vertex_count;
+    r.component_count = m.component_count;
+    r.boundary_loop_count = m.boundary_loop_count;
+    r.non_manifold_edge_count = m.non_manifold_edge_count;
+    r.degenerate_triangle_count = m.degenerate_triangle_count;
+    r.isolated_vertex_count = m.isolated_vertex_count;
+    r.units = m.units;
+    std::copy_n(m.bbox_min, 3, r.bbox_min);
+    std::copy_n(m.bbox_max, 3, r.bbox_max);
+    r.total_area = m.total_area;
+    write_result(r, out_report, "out_report");
   });
 }
 

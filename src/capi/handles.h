@@ -6,7 +6,7 @@
 
 #include "body/body.h"
 #include "body/skeleton.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"
 

@@ -2,11 +2,11 @@
 #include <cmath>
 #include <filesystem>
 
+#include "body/bvh.h"
 #include "body/motion_ops.h"
+#include "body/rig_import.h"
 #include "capi/firewall.h"
 #include "capi/handles.h"
-#include "io/bvh.h"
-#include "io/rig_import.h"
 
 using namespace pleat;
 using namespace pleat::capi;

@@ -99,7 +99,10 @@ std::string shape_string(const std::vector<int64_t>& shape) {
   return s + ")";
 }
 
-NpyArray parse_npy(const std::string& bytes, const std::string& source) {
+namespace {
+
+// The header dictionary's text and where the payload starts.
+std::string npy_header(const std::string& bytes, const std::string& source, size_t* payload_at) {
   static const char magic[] = "\x93NUMPY";
   if (bytes.size() < 10 || bytes.compare(0, 6, magic, 6) != 0) bad(source, "not a .npy array (bad magic)");
   const auto* u = reinterpret_cast<const unsigned char*>(bytes.data());
@@ -116,8 +119,52 @@ NpyArray parse_npy(const std::string& bytes, const std::string& source) {
     bad(source, "unsupported .npy format version " + std::to_string(major));
   }
   if (header_at + header_len > bytes.size()) bad(source, "truncated .npy header");
-  const std::string header = bytes.substr(header_at, header_len);
+  *payload_at = header_at + header_len;
+  return bytes.substr(header_at, header_len);
+}
 
+// A supported dtype's kind ('f', 'i', 'u' or 'b') and item size in bytes.
+char npy_kind(const std::string& dtype, const std::string& source, int* item) {
+  if (dtype.size() < 3) bad(source, "unsupported dtype '" + dtype + "'");
+  const char order = dtype[0];
+  const char kind = dtype[1];
+  try {
+    *item = std::stoi(dtype.substr(2));
+  } catch (const std::exception&) {
+    bad(source, "unsupported dtype '" + dtype + "'");
+  }
+  if (order == '>' && *item > 1) bad(source, "big-endian dtype '" + dtype + "' is not supported");
+  if (order != '<' && order != '|' && order != '=' && order != '>')
+    bad(source, "unsupported dtype '" + dtype + "'");
+  const bool ok = (kind == 'f' && (*item == 4 || *item == 8)) ||
+                  ((kind == 'i' || kind == 'u') && (*item == 1 || *item == 2 || *item == 4 || *item == 8)) ||
+                  (kind == 'b' && *item == 1);
+  if (!ok) bad(source, "unsupported dtype '" + dtype + "' (supported: f4 f8 i1-i8 u1-u8 b1)");
+  return kind;
+}
+
+// Element k of the payload as an integer (kind 'i', 'u' or 'b').
+int64_t npy_integer(const unsigned char* e, char kind, int item, size_t k, const std::string& source) {
+  if (kind == 'u' || kind == 'b') {
+    const uint64_t w = item == 1   ? e[0]
+                       : item == 2 ? load_le<uint16_t>(e)
+                       : item == 4 ? load_le<uint32_t>(e)
+                                   : load_le<uint64_t>(e);
+    if (w > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+      bad(source, "value " + std::to_string(w) + " at element " + std::to_string(k) + " exceeds int64");
+    return static_cast<int64_t>(w);
+  }
+  return item == 1   ? static_cast<int8_t>(e[0])
+         : item == 2 ? load_le<int16_t>(e)
+         : item == 4 ? load_le<int32_t>(e)
+                     : load_le<int64_t>(e);
+}
+
+}  // namespace
+
+NpyArray parse_npy(const std::string& bytes, const std::string& source) {
+  size_t payload_at = 0;
+  const std::string header = npy_header(bytes, source, &payload_at);
   NpyArray a;
   a.dtype = header_field(header, "descr", source);
   const std::string fortran = header_field(header, "fortran_order", source);
@@ -126,27 +173,11 @@ NpyArray parse_npy(const std::string& bytes, const std::string& source) {
   if (shape_text.empty() || shape_text.front() != '(')
     bad(source, "npy shape '" + shape_text + "' is not a tuple");
   a.shape = parse_shape(shape_text, source);
-
-  if (a.dtype.size() < 3) bad(source, "unsupported dtype '" + a.dtype + "'");
-  const char order = a.dtype[0];
-  const char kind = a.dtype[1];
   int item = 0;
-  try {
-    item = std::stoi(a.dtype.substr(2));
-  } catch (const std::exception&) {
-    bad(source, "unsupported dtype '" + a.dtype + "'");
-  }
-  if (order == '>' && item > 1) bad(source, "big-endian dtype '" + a.dtype + "' is not supported");
-  if (order != '<' && order != '|' && order != '=' && order != '>')
-    bad(source, "unsupported dtype '" + a.dtype + "'");
-  const bool ok = (kind == 'f' && (item == 4 || item == 8)) ||
-                  ((kind == 'i' || kind == 'u') && (item == 1 || item == 2 || item == 4 || item == 8)) ||
-                  (kind == 'b' && item == 1);
-  if (!ok) bad(source, "unsupported dtype '" + a.dtype + "' (supported: f4 f8 i1-i8 u1-u8 b1)");
+  const char kind = npy_kind(a.dtype, source, &item);
   a.integer = kind != 'f';
 
   // Element count with overflow checks against the payload size.
-  const size_t payload_at = header_at + header_len;
   const size_t available = bytes.size() - payload_at;
   uint64_t count = 1;
   for (int64_t d : a.shape) {
@@ -159,7 +190,7 @@ NpyArray parse_npy(const std::string& bytes, const std::string& source) {
     bad(source, "truncated .npy payload: shape " + shape_text + " needs " + std::to_string(count * item) +
                     " bytes, " + std::to_string(available) + " present");
 
-  const unsigned char* p = u + payload_at;
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data()) + payload_at;
   const size_t n = static_cast<size_t>(count);
   a.values.resize(n);
   if (a.integer) a.integers.resize(n);
@@ -186,23 +217,8 @@ NpyArray parse_npy(const std::string& bytes, const std::string& source) {
       a.values[dst] = item == 4 ? static_cast<double>(load_le<float>(e)) : load_le<double>(e);
       continue;
     }
-    int64_t v = 0;
-    if (kind == 'u' || kind == 'b') {
-      uint64_t w = item == 1   ? e[0]
-                   : item == 2 ? load_le<uint16_t>(e)
-                   : item == 4 ? load_le<uint32_t>(e)
-                               : load_le<uint64_t>(e);
-      if (w > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
-        bad(source, "value " + std::to_string(w) + " at element " + std::to_string(k) + " exceeds int64");
-      v = static_cast<int64_t>(w);
-    } else {
-      v = item == 1   ? static_cast<int8_t>(e[0])
-          : item == 2 ? load_le<int16_t>(e)
-          : item == 4 ? load_le<int32_t>(e)
-                      : load_le<int64_t>(e);
-    }
-    a.integers[dst] = v;
-    a.values[dst] = static_cast<double>(v);
+    a.integers[dst] = npy_integer(e, kind, item, k, source);
+    a.values[dst] = static_cast<double>(a.integers[dst]);
   }
   return a;
 }

@@ -3,7 +3,7 @@
 #include <Eigen/Geometry>  // cross products
 #include <cmath>
 
-#include "metrics/box_tree.h"
+#include "core/box_tree.h"
 
 namespace pleat {
 namespace {

@@ -5,6 +5,24 @@
 #include <vector>
 
 namespace pleat::nn {
+namespace {
+
+// dL/dz_j += dL/d||z_j^h|| z_j^h / ||z_j^h|| (LGAT's divisor reads the norms).
+template <typename Scalar>
+void add_norm_gradients(const std::vector<Scalar>& grad_norm, const Scalar* norms, const Scalar* projected,
+                        Index zstride, int32_t n, int32_t heads, Index d, Scalar* grad_projected) {
+  for (int32_t j = 0; j < n; ++j)
+    for (int32_t h = 0; h < heads; ++h) {
+      const Scalar norm = norms[static_cast<Index>(j) * heads + h];
+      const Scalar gn = grad_norm[static_cast<size_t>(j) * heads + h];
+      if (norm <= 0 || gn == 0) continue;
+      const Scalar* zj = projected + static_cast<Index>(j) * zstride + h * d;
+      Scalar* dzj = grad_projected + static_cast<Index>(j) * zstride + h * d;
+      for (Index k = 0; k < d; ++k) dzj[k] += gn * zj[k] / norm;
+    }
+}
+
+}  // namespace
 
 template <typename Scalar>
 void attention_aggregate_backward(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
@@ -98,16 +116,7 @@ void attention_aggregate_backward(const AttentionParamsT<Scalar>& params, const 
       }
     }
   }
-  if (lipschitz)
-    for (int32_t j = 0; j < n; ++j)
-      for (int32_t h = 0; h < heads; ++h) {
-        const Scalar norm = norms[static_cast<Index>(j) * heads + h];
-        const Scalar gn = grad_norm[static_cast<size_t>(j) * heads + h];
-        if (norm <= 0 || gn == 0) continue;
-        const Scalar* zj = projected + static_cast<Index>(j) * zstride + h * d;
-        Scalar* dzj = grad_projected + static_cast<Index>(j) * zstride + h * d;
-        for (Index k = 0; k < d; ++k) dzj[k] += gn * zj[k] / norm;
-      }
+  if (lipschitz) add_norm_gradients(grad_norm, norms, projected, zstride, n, heads, d, grad_projected);
 }
 
 template void attention_aggregate_backward(const AttentionParamsT<float>&, const AttentionGraph&,

@@ -4,9 +4,9 @@
 #include <memory>
 
 #include "capi/pleat.h"
+#include "core/box_tree.h"
 #include "core/error.h"
-#include "metrics/box_tree.h"
-#include "metrics/nearest_points.h"
+#include "core/nearest_points.h"
 #include "runtime/frame_features.h"
 
 namespace pleat::runtime {

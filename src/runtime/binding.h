@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "body/body.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "nn/graph_attention.h"
 #include "runtime/model.h"
 #include "runtime/offset_filter.h"

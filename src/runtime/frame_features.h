@@ -17,7 +17,7 @@
 
 #include "body/skeleton.h"
 #include "body/skinning.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "nn/tensor.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"

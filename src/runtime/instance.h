@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "body/body.h"
-#include "core/garment.h"
+#include "garment/garment.h"
 #include "runtime/model.h"
 
 namespace pleat::runtime {

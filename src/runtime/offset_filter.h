@@ -11,7 +11,7 @@
 // heading frame and the world frame give the same result.
 #include <Eigen/SparseCholesky>
 
-#include "core/garment.h"
+#include "garment/garment.h"
 
 namespace pleat::runtime {
 

@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "capi/pleat.h"
-#include "io/bvh.h"
+#include "core/nearest_points.h"
 #include "io/sequence.h"
-#include "metrics/nearest_points.h"
 #include "support/test_support.h"
 
 namespace pleat_test {

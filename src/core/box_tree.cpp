@@ -1,4 +1,4 @@
-#include "metrics/box_tree.h"
+#include "core/box_tree.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "io/garment_file.h"
+#include "garment/garment_file.h"
 
 #include <cmath>
 #include <fstream>
@@ -44,7 +44,7 @@ std::vector<uint8_t> serialize_garment(const Garment& g) {
   auto vertices = vec(b, g.rest.vertices.data(), n * 3);
   auto triangles = vec(b, g.rest.triangles.data(), static_cast<size_t>(g.rest.triangles.size()));
   auto source_vertex = vec(b, g.source_vertex.data(), g.source_vertex.size());
-  const pleat_mesh_report& r = g.report;
+  const MeshReport& r = g.report;
   auto report = fb::CreateMeshReport(b, r.input_vertex_count, r.welded_vertex_count, r.component_count,
                                      r.boundary_loop_count, r.non_manifold_edge_count,
                                      r.degenerate_triangle_count, r.isolated_vertex_count, r.units);
@@ -84,23 +84,11 @@ bool is_garment_file(const std::string& path) {
   return flatbuffers::BufferHasIdentifier(header, fb::GarmentIdentifier());
 }
 
-Garment deserialize_garment(const uint8_t* data, size_t size, const std::string& source) {
-  if (size < 8 || !flatbuffers::BufferHasIdentifier(data, fb::GarmentIdentifier()))
-    bad(source, "not a prepared-garment file (identifier PLGM missing)");
-  // Newer files still verify (FlatBuffers tables only grow), so the version
-  // check after the verifier can tell "upgrade pleat" apart from "corrupt".
-  flatbuffers::Verifier verifier(data, size, 64, 100000000);
-  if (!fb::VerifyGarmentBuffer(verifier)) bad(source, "file is corrupt or truncated (FlatBuffers verifier)");
-  const fb::Garment* root = fb::GetGarment(data);
-  if (root->format_version() > kGarmentFormatVersion)
-    fail(PLEAT_ERROR_UNSUPPORTED_VERSION, source + ": format_version " +
-                                              std::to_string(root->format_version()) +
-                                              " is newer than this pleat reads (" +
-                                              std::to_string(kGarmentFormatVersion) + "); upgrade pleat");
-  if (root->format_version() == 0) bad(source, "field 'format_version' is 0");
+namespace {
 
-  Garment g;
-  g.source = root->source() ? root->source()->str() : source;
+// The rest mesh and the map back to the source file's vertices.
+void read_mesh(const fb::Garment* root, const std::string& source, Garment* g) {
+  g->source = root->source() ? root->source()->str() : source;
   const auto& vertices = required(root->vertices(), source, "vertices");
   const auto& triangles = required(root->triangles(), source, "triangles");
   if (vertices.size() == 0 || vertices.size() % 3 != 0)
@@ -110,28 +98,30 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
     bad(source, "field 'triangles' has " + std::to_string(triangles.size()) +
                     " values, not a positive multiple of 3");
   const auto n = static_cast<Eigen::Index>(vertices.size() / 3);
-  g.rest.vertices = Eigen::Map<const Points3d>(vertices.data(), n, 3);
-  if (!g.rest.vertices.allFinite() || g.rest.vertices.cwiseAbs().maxCoeff() > kMaxCoordinate)
+  g->rest.vertices = Eigen::Map<const Points3d>(vertices.data(), n, 3);
+  if (!g->rest.vertices.allFinite() || g->rest.vertices.cwiseAbs().maxCoeff() > kMaxCoordinate)
     bad(source, "field 'vertices' holds a non-finite or huge value");
-  g.rest.triangles =
+  g->rest.triangles =
       Eigen::Map<const Triangles>(triangles.data(), static_cast<Eigen::Index>(triangles.size() / 3), 3);
-  for (Eigen::Index i = 0; i < g.rest.triangles.size(); ++i)
-    if (g.rest.triangles.data()[i] < 0 || g.rest.triangles.data()[i] >= n)
+  for (Eigen::Index i = 0; i < g->rest.triangles.size(); ++i)
+    if (g->rest.triangles.data()[i] < 0 || g->rest.triangles.data()[i] >= n)
       bad(source, "field 'triangles' index " + std::to_string(i) + " is out of range");
   const auto& source_vertex = required(root->source_vertex(), source, "source_vertex");
-  g.source_vertex.assign(source_vertex.begin(), source_vertex.end());
-  for (size_t i = 0; i < g.source_vertex.size(); ++i)
-    if (g.source_vertex[i] < 0 || g.source_vertex[i] >= n)
+  g->source_vertex.assign(source_vertex.begin(), source_vertex.end());
+  for (size_t i = 0; i < g->source_vertex.size(); ++i)
+    if (g->source_vertex[i] < 0 || g->source_vertex[i] >= n)
       bad(source, "field 'source_vertex' index " + std::to_string(i) + " is out of range");
+}
 
-  derive_rest_data(&g);
+// The import report: counts as stored, sizes and bounds recomputed from the
+// mesh (after derive_rest_data, for the area).
+void read_report(const fb::Garment* root, const std::string& source, Garment* g) {
   const fb::MeshReport* report = root->report();
   if (!report) bad(source, "field 'report' is missing");
-  pleat_mesh_report& r = g.report;
-  r.struct_size = sizeof(pleat_mesh_report);
+  MeshReport& r = g->report;
   r.input_vertex_count = report->input_vertex_count();
-  r.vertex_count = static_cast<uint32_t>(n);
-  r.triangle_count = static_cast<uint32_t>(g.rest.triangle_count());
+  r.vertex_count = static_cast<uint32_t>(g->rest.vertex_count());
+  r.triangle_count = static_cast<uint32_t>(g->rest.triangle_count());
   r.welded_vertex_count = report->welded_vertex_count();
   r.component_count = report->component_count();
   r.boundary_loop_count = report->boundary_loop_count();
@@ -139,21 +129,18 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   r.degenerate_triangle_count = report->degenerate_triangle_count();
   r.isolated_vertex_count = report->isolated_vertex_count();
   r.units = report->units();
-  const Eigen::RowVector3d lo = g.rest.vertices.colwise().minCoeff(),
-                           hi = g.rest.vertices.colwise().maxCoeff();
+  const Eigen::RowVector3d lo = g->rest.vertices.colwise().minCoeff(),
+                           hi = g->rest.vertices.colwise().maxCoeff();
   for (int c = 0; c < 3; ++c) {
     r.bbox_min[c] = static_cast<float>(lo[c]);
     r.bbox_max[c] = static_cast<float>(hi[c]);
   }
-  r.total_area = g.vertex_areas.sum();
+  r.total_area = g->vertex_areas.sum();
+}
 
-  const fb::Bands* bands = root->bands();
-  const fb::Neighbourhoods* geodesic = root->geodesic();
-  if (!bands != !geodesic) bad(source, "fields 'bands' and 'geodesic' must both be present or both absent");
-  if (!bands) return g;
-
-  PreparedData p;
-  BandBasis<float>& bb = p.bands;
+// The spectral basis, with bounds the verifier cannot check.
+BandBasis<float> read_bands(const fb::Bands* bands, Eigen::Index n, const std::string& source) {
+  BandBasis<float> bb;
   bb.vertex_count = static_cast<int32_t>(n);
   bb.low_count = bands->low_count();
   bb.mid_count = bands->mid_count();
@@ -184,29 +171,63 @@ Garment deserialize_garment(const uint8_t* data, size_t size, const std::string&
   bb.sqrt_degree = Eigen::Map<const Eigen::VectorXf>(sqrt_degree.data(), n);
   if (!bb.vectors.allFinite() || !bb.sqrt_degree.allFinite() || !bb.eigenvalues.allFinite())
     bad(source, "field 'bands' holds a non-finite value");
-  // Cheap semantic bounds catch corruption the verifier cannot see: entries of
-  // unit eigenvectors are at most 1, eigenvalues of L_norm lie in [0, 2], and
-  // sqrt_degree is the root of a vertex degree (1 for isolated vertices).
+  // Entries of unit eigenvectors are at most 1, eigenvalues of L_norm lie in
+  // [0, 2], and sqrt_degree is the root of a vertex degree (1 when isolated).
   if (bb.vectors.cwiseAbs().maxCoeff() > 1.001f) bad(source, "field 'bands.vectors' holds an entry above 1");
   if (bb.eigenvalues.minCoeff() < -1e-6 || bb.eigenvalues.maxCoeff() > 2.0 + 1e-6)
     bad(source, "field 'bands.eigenvalues' leaves [0, 2]");
   if ((bb.sqrt_degree.array() < 1.0f).any() || (bb.sqrt_degree.array() > std::sqrt(float(n))).any())
     bad(source, "field 'bands.sqrt_degree' leaves [1, sqrt(N)]");
+  return bb;
+}
 
-  p.geodesic_radius = geodesic->radius();
+// The geodesic neighbourhoods (CSR), every index checked.
+void read_geodesic(const fb::Neighbourhoods* geodesic, Eigen::Index n, const std::string& source,
+                   PreparedData* p) {
+  p->geodesic_radius = geodesic->radius();
   const auto& offsets = required(geodesic->offsets(), source, "geodesic.offsets");
   const auto& indices = required(geodesic->indices(), source, "geodesic.indices");
   expect_size(offsets.size(), static_cast<size_t>(n) + 1, source, "geodesic.offsets");
-  p.geodesic.offsets.assign(offsets.begin(), offsets.end());
-  p.geodesic.indices.assign(indices.begin(), indices.end());
-  if (p.geodesic.offsets.front() != 0 || p.geodesic.offsets.back() != static_cast<int32_t>(indices.size()))
+  p->geodesic.offsets.assign(offsets.begin(), offsets.end());
+  p->geodesic.indices.assign(indices.begin(), indices.end());
+  if (p->geodesic.offsets.front() != 0 || p->geodesic.offsets.back() != static_cast<int32_t>(indices.size()))
     bad(source, "field 'geodesic.offsets' does not span 'geodesic.indices'");
-  for (size_t v = 0; v + 1 < p.geodesic.offsets.size(); ++v)
-    if (p.geodesic.offsets[v] > p.geodesic.offsets[v + 1])
+  for (size_t v = 0; v + 1 < p->geodesic.offsets.size(); ++v)
+    if (p->geodesic.offsets[v] > p->geodesic.offsets[v + 1])
       bad(source, "field 'geodesic.offsets' decreases at vertex " + std::to_string(v));
-  for (size_t i = 0; i < p.geodesic.indices.size(); ++i)
-    if (p.geodesic.indices[i] < 0 || p.geodesic.indices[i] >= n)
+  for (size_t i = 0; i < p->geodesic.indices.size(); ++i)
+    if (p->geodesic.indices[i] < 0 || p->geodesic.indices[i] >= n)
       bad(source, "field 'geodesic.indices' index " + std::to_string(i) + " is out of range");
+}
+
+}  // namespace
+
+Garment deserialize_garment(const uint8_t* data, size_t size, const std::string& source) {
+  if (size < 8 || !flatbuffers::BufferHasIdentifier(data, fb::GarmentIdentifier()))
+    bad(source, "not a prepared-garment file (identifier PLGM missing)");
+  // Newer files still verify (FlatBuffers tables only grow), so the version
+  // check after the verifier can tell "upgrade pleat" apart from "corrupt".
+  flatbuffers::Verifier verifier(data, size, 64, 100000000);
+  if (!fb::VerifyGarmentBuffer(verifier)) bad(source, "file is corrupt or truncated (FlatBuffers verifier)");
+  const fb::Garment* root = fb::GetGarment(data);
+  if (root->format_version() > kGarmentFormatVersion)
+    fail(PLEAT_ERROR_UNSUPPORTED_VERSION, source + ": format_version " +
+                                              std::to_string(root->format_version()) +
+                                              " is newer than this pleat reads (" +
+                                              std::to_string(kGarmentFormatVersion) + "); upgrade pleat");
+  if (root->format_version() == 0) bad(source, "field 'format_version' is 0");
+
+  Garment g;
+  read_mesh(root, source, &g);
+  derive_rest_data(&g);
+  read_report(root, source, &g);
+  const fb::Bands* bands = root->bands();
+  const fb::Neighbourhoods* geodesic = root->geodesic();
+  if (!bands != !geodesic) bad(source, "fields 'bands' and 'geodesic' must both be present or both absent");
+  if (!bands) return g;
+  PreparedData p;
+  p.bands = read_bands(bands, g.rest.vertex_count(), source);
+  read_geodesic(geodesic, g.rest.vertex_count(), source, &p);
   g.prepared = std::move(p);
   return g;
 }

@@ -29,6 +29,24 @@ struct PreparedData {
   Csr geodesic;  // rest-pose neighbourhoods within geodesic_radius
 };
 
+// What building a garment found in its mesh (the C API copies it into a
+// pleat_mesh_report; the fields mean the same).
+struct MeshReport {
+  uint32_t input_vertex_count = 0;
+  uint32_t vertex_count = 0;
+  uint32_t triangle_count = 0;
+  uint32_t welded_vertex_count = 0;
+  uint32_t component_count = 0;
+  uint32_t boundary_loop_count = 0;
+  uint32_t non_manifold_edge_count = 0;
+  uint32_t degenerate_triangle_count = 0;
+  uint32_t isolated_vertex_count = 0;
+  uint32_t units = 0;  // PLEAT_UNITS_*
+  float bbox_min[3] = {0, 0, 0};
+  float bbox_max[3] = {0, 0, 0};
+  double total_area = 0.0;  // m^2
+};
+
 struct Garment {
   TriMesh rest;                        // welded, degenerate triangles dropped
   std::vector<int32_t> source_vertex;  // input vertex -> rest vertex
@@ -36,7 +54,7 @@ struct Garment {
   Csr graph;
   Points3d rest_normals;
   Eigen::VectorXd vertex_areas;
-  pleat_mesh_report report{};
+  MeshReport report;
   std::optional<PreparedData> prepared;
   std::string source;  // file it came from, for messages
 };

@@ -1,10 +1,10 @@
-#include "metrics/nearest_points.h"
+#include "core/nearest_points.h"
 
 #include <limits>
 
 #include "capi/pleat.h"
+#include "core/box_tree.h"
 #include "core/error.h"
-#include "metrics/box_tree.h"
 
 namespace pleat {
 

@@ -1,4 +1,4 @@
-#include "io/rig_import.h"
+#include "body/rig_import.h"
 
 #include <assimp/config.h>
 #include <assimp/postprocess.h>

@@ -1,4 +1,4 @@
-#include "core/garment.h"
+#include "garment/garment.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -95,8 +95,7 @@ Garment build_garment(const Points3d& input_vertices, const Triangles& input_tri
 
   derive_rest_data(&g);
 
-  pleat_mesh_report& r = g.report;
-  r.struct_size = sizeof(pleat_mesh_report);
+  MeshReport& r = g.report;
   r.input_vertex_count = static_cast<uint32_t>(input_vertices.rows());
   r.vertex_count = static_cast<uint32_t>(g.rest.vertex_count());
   r.triangle_count = static_cast<uint32_t>(g.rest.triangle_count());

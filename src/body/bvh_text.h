@@ -1,7 +1,7 @@
 #pragma once
-// The text of a BVH file, checked but not yet interpreted (io/bvh.h turns it
+// The text of a BVH file, checked but not yet interpreted (body/bvh.h turns it
 // into a Motion): the joints and end sites as written, and the MOTION rows.
-// Internal to io/bvh.cpp.
+// Internal to body/bvh.cpp.
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>

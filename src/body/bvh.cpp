@@ -1,4 +1,4 @@
-#include "io/bvh.h"
+#include "body/bvh.h"
 
 #include <algorithm>
 #include <charconv>
@@ -7,8 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "body/bvh_text.h"
 #include "core/error.h"
-#include "io/bvh_text.h"
 
 namespace pleat {
 

@@ -1,4 +1,4 @@
-#include "io/bvh_text.h"
+#include "body/bvh_text.h"
 
 #include <charconv>
 #include <cmath>

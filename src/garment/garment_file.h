@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/garment.h"
+#include "garment/garment.h"
 
 namespace pleat {
 

@@ -1,0 +1,372 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "nn/graph_attention.h"
+
+// The attention kernel: logits, softmax and the weighted sum per destination
+// node, specialised at compile time by head count, variant and merge mode.
+
+namespace pleat::nn {
+namespace {
+
+template <typename Scalar>
+using Packet = Eigen::Array<Scalar, 4, 1>;
+template <typename Scalar>
+using ConstPacketMap = Eigen::Map<const Packet<Scalar>>;
+
+// The weighted sum of one destination row when d' is a multiple of 4: the
+// row is walked in blocks of four 4-Scalar vectors held in registers across
+// all edges (no load/store of the output per edge). Same operation order per
+// element as the scalar path: edges in CSR order (heads in order within an
+// edge for mean), then the self term, then the bias.
+template <typename Scalar, bool kConcat>
+inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb, const Scalar* z,
+                               Index zstride, const Scalar* zi, const Scalar* a,
+                               const Scalar* neighbour_coefficient, const Scalar* self_coefficient,
+                               const Scalar* bias, Scalar* row) {
+  const Index out_vectors = (kConcat ? heads * d : d) / 4;
+  // Column offset in z and head of output vector u (concat: head = col / d;
+  // mean: every head contributes, offset h*d added below).
+  Index v = 0;
+  for (; v + 4 <= out_vectors; v += 4) {
+    Packet<Scalar> acc[4] = {Packet<Scalar>::Zero(), Packet<Scalar>::Zero(), Packet<Scalar>::Zero(),
+                             Packet<Scalar>::Zero()};
+    int32_t head[4];
+    for (int u = 0; u < 4; ++u) head[u] = kConcat ? static_cast<int32_t>((v + u) * 4 / d) : 0;
+    for (int32_t e = 0; e < degree; ++e) {
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* ae = a + static_cast<Index>(e) * heads;
+      if constexpr (kConcat) {
+        if (head[0] == head[3]) {  // d' % 16 == 0: one coefficient for the block
+          const Scalar c = neighbour_coefficient[head[0]] * ae[head[0]];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + 4 * u);
+        } else {
+          for (int u = 0; u < 4; ++u)
+            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstPacketMap<Scalar>(zj + 4 * u);
+        }
+      } else {
+        for (int32_t h = 0; h < heads; ++h) {
+          const Scalar c = neighbour_coefficient[h] * ae[h];
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + h * d + 4 * u);
+        }
+      }
+    }
+    if (self_coefficient != nullptr) {
+      const Scalar* zs = zi + v * 4;
+      if constexpr (kConcat) {
+        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstPacketMap<Scalar>(zs + 4 * u);
+      } else {
+        for (int32_t h = 0; h < heads; ++h)
+          for (int u = 0; u < 4; ++u)
+            acc[u] += self_coefficient[h] * ConstPacketMap<Scalar>(zs + h * d + 4 * u);
+      }
+    }
+    if (bias != nullptr)
+      for (int u = 0; u < 4; ++u) acc[u] += ConstPacketMap<Scalar>(bias + v * 4 + 4 * u);
+    for (int u = 0; u < 4; ++u) Eigen::Map<Packet<Scalar>>(row + v * 4 + 4 * u) = acc[u];
+  }
+  for (; v < out_vectors; ++v) {
+    Packet<Scalar> acc = Packet<Scalar>::Zero();
+    const int32_t hv = kConcat ? static_cast<int32_t>(v * 4 / d) : 0;
+    for (int32_t e = 0; e < degree; ++e) {
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* ae = a + static_cast<Index>(e) * heads;
+      if constexpr (kConcat) {
+        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap<Scalar>(zj);
+      } else {
+        for (int32_t h = 0; h < heads; ++h)
+          acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap<Scalar>(zj + h * d);
+      }
+    }
+    if (self_coefficient != nullptr) {
+      if constexpr (kConcat) {
+        acc += self_coefficient[hv] * ConstPacketMap<Scalar>(zi + v * 4);
+      } else {
+        for (int32_t h = 0; h < heads; ++h)
+          acc += self_coefficient[h] * ConstPacketMap<Scalar>(zi + v * 4 + h * d);
+      }
+    }
+    if (bias != nullptr) acc += ConstPacketMap<Scalar>(bias + v * 4);
+    Eigen::Map<Packet<Scalar>>(row + v * 4) = acc;
+  }
+}
+
+// Attention coefficients of destination i for all its edges, written to
+// a[e * heads + h]: raw logits s_h.v_i + t_h.v_j (LGAT: times 1 / divisor),
+// LeakyReLU as max(x, 0) + slope * min(x, 0) with SIMD max/min (a scalar
+// select compiles to a branch that mispredicts on every other edge), then a
+// max-shifted softmax per head. Generic head count.
+template <typename Scalar, bool kLipschitz>
+inline void softmax_scalar(const AttentionParamsT<Scalar>& params, int32_t heads, int32_t i, int32_t degree,
+                           const int32_t* nb, const Scalar* z, Index zstride, Index width,
+                           const Scalar* norms, Scalar* a, Scalar* lipschitz_denominator) {
+  const Scalar* self_score = z + static_cast<Index>(i) * zstride + width;
+  Scalar inverse_denominator[kMaxAttentionHeads];
+  if constexpr (kLipschitz) {
+    Scalar largest[kMaxAttentionHeads];
+    for (int32_t h = 0; h < heads; ++h) largest[h] = 0.0f;
+    for (int32_t e = 0; e < degree; ++e) {
+      const Scalar* nj = norms + static_cast<Index>(nb[e]) * heads;
+      for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], nj[h]);
+    }
+    for (int32_t h = 0; h < heads; ++h) {
+      const Scalar den = params.self_norm[h] * norms[static_cast<Index>(i) * heads + h] +
+                         params.neighbour_norm[h] * largest[h] + params.lipschitz_epsilon;
+      if (lipschitz_denominator != nullptr) lipschitz_denominator[static_cast<Index>(i) * heads + h] = den;
+      inverse_denominator[h] = 1.0f / den;
+    }
+  }
+  for (int32_t e = 0; e < degree; ++e) {
+    const Scalar* t = z + static_cast<Index>(nb[e]) * zstride + width + heads;
+    Scalar* ae = a + static_cast<Index>(e) * heads;
+    for (int32_t h = 0; h < heads; ++h) {
+      if constexpr (kLipschitz)
+        ae[h] = (self_score[h] + t[h]) * inverse_denominator[h];
+      else
+        ae[h] = self_score[h] + t[h];
+    }
+  }
+  const Scalar slope = params.negative_slope;
+  Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1>> block(a, static_cast<Index>(degree) * heads);
+  block = block.max(0.0f) + slope * block.min(0.0f);
+  Scalar largest[kMaxAttentionHeads];
+  for (int32_t h = 0; h < heads; ++h) largest[h] = a[h];
+  for (int32_t e = 1; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], a[e * heads + h]);
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) a[e * heads + h] -= largest[h];
+  block = block.exp();
+  Scalar inverse_sum[kMaxAttentionHeads];
+  for (int32_t h = 0; h < heads; ++h) inverse_sum[h] = 0.0f;
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) inverse_sum[h] += a[e * heads + h];
+  for (int32_t h = 0; h < heads; ++h) inverse_sum[h] = 1.0f / inverse_sum[h];
+  for (int32_t e = 0; e < degree; ++e)
+    for (int32_t h = 0; h < heads; ++h) a[e * heads + h] *= inverse_sum[h];
+}
+
+// The same with kPackets * 4 heads, one packet per 4 heads and edge.
+template <typename Scalar, int kPackets, bool kLipschitz>
+inline void softmax_packets(const AttentionParamsT<Scalar>& params, int32_t i, int32_t degree,
+                            const int32_t* nb, const Scalar* z, Index zstride, Index width,
+                            const Scalar* norms, Scalar* a, Scalar* lipschitz_denominator) {
+  constexpr int kHeads = 4 * kPackets;
+  const Scalar* self_score = z + static_cast<Index>(i) * zstride + width;
+  Packet<Scalar> self[kPackets], inverse_denominator[kPackets], largest[kPackets], sum[kPackets];
+  for (int p = 0; p < kPackets; ++p) self[p] = ConstPacketMap<Scalar>(self_score + 4 * p);
+  if constexpr (kLipschitz) {
+    for (int p = 0; p < kPackets; ++p) largest[p] = Packet<Scalar>::Zero();
+    for (int32_t e = 0; e < degree; ++e)
+      for (int p = 0; p < kPackets; ++p)
+        largest[p] =
+            largest[p].max(ConstPacketMap<Scalar>(norms + static_cast<Index>(nb[e]) * kHeads + 4 * p));
+    for (int p = 0; p < kPackets; ++p) {
+      const Packet<Scalar> den = ConstPacketMap<Scalar>(params.self_norm + 4 * p) *
+                                     ConstPacketMap<Scalar>(norms + static_cast<Index>(i) * kHeads + 4 * p) +
+                                 ConstPacketMap<Scalar>(params.neighbour_norm + 4 * p) * largest[p] +
+                                 params.lipschitz_epsilon;
+      if (lipschitz_denominator != nullptr)
+        Eigen::Map<Packet<Scalar>>(lipschitz_denominator + static_cast<Index>(i) * kHeads + 4 * p) = den;
+      inverse_denominator[p] = den.inverse();
+    }
+  }
+  const Scalar slope = params.negative_slope;
+  for (int p = 0; p < kPackets; ++p)
+    largest[p] = Packet<Scalar>::Constant(-std::numeric_limits<Scalar>::infinity());
+  for (int32_t e = 0; e < degree; ++e) {
+    const Scalar* t = z + static_cast<Index>(nb[e]) * zstride + width + kHeads;
+    for (int p = 0; p < kPackets; ++p) {
+      Packet<Scalar> x = self[p] + ConstPacketMap<Scalar>(t + 4 * p);
+      if constexpr (kLipschitz) x *= inverse_denominator[p];
+      x = x.max(0.0f) + slope * x.min(0.0f);
+      Eigen::Map<Packet<Scalar>>(a + e * kHeads + 4 * p) = x;
+      largest[p] = largest[p].max(x);
+    }
+  }
+  for (int p = 0; p < kPackets; ++p) sum[p] = Packet<Scalar>::Zero();
+  for (int32_t e = 0; e < degree; ++e)
+    for (int p = 0; p < kPackets; ++p) {
+      Eigen::Map<Packet<Scalar>> x(a + e * kHeads + 4 * p);
+      x = (x - largest[p]).exp();
+      sum[p] += x;
+    }
+  for (int p = 0; p < kPackets; ++p) sum[p] = sum[p].inverse();
+  for (int32_t e = 0; e < degree; ++e)
+    for (int p = 0; p < kPackets; ++p) Eigen::Map<Packet<Scalar>>(a + e * kHeads + 4 * p) *= sum[p];
+}
+
+// Logits, softmax and the weighted sum for destination nodes [begin, end).
+// kHeads > 0 fixes the head count at compile time (the per-head loops unroll
+// and the logits of one edge become one SIMD vector); 0 reads it at run time.
+// Lipschitz and the merge mode are template parameters too, so the inner
+// loops carry no branches.
+template <typename Scalar, int kHeads, bool kLipschitz, bool kConcat>
+void aggregate_nodes(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph, const Scalar* z,
+                     Index zstride, const Scalar* norms, int32_t begin, int32_t end, Scalar* out,
+                     Index ostride, Scalar* alpha, Scalar* scratch, Scalar* lipschitz_denominator) {
+  const int32_t heads = kHeads > 0 ? kHeads : params.heads;
+  const Index d = params.head_width;
+  const Index width = static_cast<Index>(heads) * d;  // columns of z holding z_j
+  const Index out_width = kConcat ? width : d;
+  const Scalar head_scale = kConcat ? 1.0f : 1.0f / static_cast<Scalar>(heads);
+  const int32_t* offsets = graph.offsets.data();
+  const int32_t* sources = graph.sources.data();
+  Scalar* head_rows = scratch;  // heads * d' (mean, generic d'); then max_degree * heads (alpha)
+
+  // Per-head coefficients: Q (times 1/H for mean) on alpha, (P - Q) on z_i.
+  Scalar neighbour_coefficient[kMaxAttentionHeads], self_coefficient[kMaxAttentionHeads];
+  bool has_self_term = false;
+  for (int32_t h = 0; h < heads; ++h) {
+    neighbour_coefficient[h] = params.neighbour_coefficient[h] * head_scale;
+    self_coefficient[h] = params.self_coefficient[h] * head_scale;
+    has_self_term = has_self_term || self_coefficient[h] != 0.0f;
+  }
+
+  for (int32_t i = begin; i < end; ++i) {
+    Scalar* __restrict row = out + static_cast<Index>(i) * ostride;
+    const int32_t first = offsets[i];
+    const int32_t degree = offsets[i + 1] - first;
+    const int32_t* __restrict nb = sources + first;
+    if (degree == 0) {  // only a hand-built graph without self loops gets here
+      for (Index k = 0; k < out_width; ++k) row[k] = params.bias != nullptr ? params.bias[k] : 0.0f;
+      continue;
+    }
+    const Scalar* zi = z + static_cast<Index>(i) * zstride;
+    Scalar* __restrict a = alpha != nullptr ? alpha + static_cast<Index>(first) * heads : scratch + width;
+
+    if constexpr (kHeads > 0 && kHeads % 4 == 0) {
+      // Heads in SIMD lanes: one edge's logits are kHeads / 4 packets.
+      softmax_packets<Scalar, kHeads / 4, kLipschitz>(params, i, degree, nb, z, zstride, width, norms, a,
+                                                      lipschitz_denominator);
+    } else {
+      softmax_scalar<Scalar, kLipschitz>(params, heads, i, degree, nb, z, zstride, width, norms, a,
+                                         lipschitz_denominator);
+    }
+
+    // y_i = sum_j Q alpha_ij z_j + (P - Q) z_i + bias, in that order.
+    if (d % 4 == 0) {
+      accumulate_blocked<Scalar, kConcat>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
+                                          has_self_term ? self_coefficient : nullptr, params.bias, row);
+    } else if (!kConcat && d < 4 && (heads - 1) * d + 4 <= zstride) {
+      // Mean of narrow heads (the xyz output layers, d' = 3): one packet per
+      // head, lanes past d' read the next columns of the same Z row and are
+      // dropped. Same per-element order as the generic path below.
+      Packet<Scalar> acc[kMaxAttentionHeads];
+      for (int32_t h = 0; h < heads; ++h) acc[h] = Packet<Scalar>::Zero();
+      for (int32_t e = 0; e < degree; ++e) {
+        const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride;
+        const Scalar* ae = a + static_cast<Index>(e) * heads;
+        for (int32_t h = 0; h < heads; ++h)
+          acc[h] += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap<Scalar>(zj + h * d);
+      }
+      if (has_self_term)
+        for (int32_t h = 0; h < heads; ++h)
+          acc[h] += self_coefficient[h] * ConstPacketMap<Scalar>(zi + h * d);
+      for (int32_t h = 1; h < heads; ++h) acc[0] += acc[h];
+      for (Index k = 0; k < d; ++k) row[k] = acc[0][k] + (params.bias != nullptr ? params.bias[k] : 0.0f);
+    } else {
+      // Generic d': per-head accumulators (the row itself for concat), so each
+      // output element's dependency chain is one add per edge, not per
+      // edge and head; mean sums the heads at the end.
+      Scalar* __restrict acc = kConcat ? row : head_rows;
+      for (Index k = 0; k < width; ++k) acc[k] = 0.0f;
+      for (int32_t e = 0; e < degree; ++e) {
+        const Scalar* __restrict zj = z + static_cast<Index>(nb[e]) * zstride;
+        const Scalar* ae = a + static_cast<Index>(e) * heads;
+        for (int32_t h = 0; h < heads; ++h) {
+          const Scalar c = neighbour_coefficient[h] * ae[h];
+          for (Index k = 0; k < d; ++k) acc[h * d + k] += c * zj[h * d + k];
+        }
+      }
+      if (has_self_term)
+        for (int32_t h = 0; h < heads; ++h)
+          for (Index k = 0; k < d; ++k) acc[h * d + k] += self_coefficient[h] * zi[h * d + k];
+      if constexpr (!kConcat) {
+        for (Index k = 0; k < d; ++k) {
+          Scalar sum = acc[k];
+          for (int32_t h = 1; h < heads; ++h) sum += acc[h * d + k];
+          row[k] = sum;
+        }
+      }
+      if (params.bias != nullptr)
+        for (Index k = 0; k < out_width; ++k) row[k] += params.bias[k];
+    }
+  }
+}
+
+template <typename Scalar, int kHeads>
+void aggregate_dispatch(const AttentionParamsT<Scalar>& p, const AttentionGraph& g, const Scalar* z, Index zs,
+                        const Scalar* norms, int32_t begin, int32_t end, Scalar* out, Index os, Scalar* alpha,
+                        Scalar* scratch, Scalar* den) {
+  const bool concat = p.merge == HeadMerge::concat;
+  if (p.lipschitz) {
+    if (concat)
+      aggregate_nodes<Scalar, kHeads, true, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                  den);
+    else
+      aggregate_nodes<Scalar, kHeads, true, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                   den);
+  } else {
+    if (concat)
+      aggregate_nodes<Scalar, kHeads, false, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                   den);
+    else
+      aggregate_nodes<Scalar, kHeads, false, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
+                                                    den);
+  }
+}
+
+}  // namespace
+
+template <typename Scalar>
+void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* projected, Index zstride,
+                          int32_t begin, int32_t end, Scalar* norms) {
+  const int32_t heads = params.heads;
+  const Index d = params.head_width;
+  for (int32_t j = begin; j < end; ++j) {
+    const Scalar* zj = projected + static_cast<Index>(j) * zstride;
+    for (int32_t h = 0; h < heads; ++h) {
+      Scalar s = 0;
+      for (Index k = 0; k < d; ++k) s += zj[h * d + k] * zj[h * d + k];
+      norms[static_cast<Index>(j) * heads + h] = std::sqrt(s);
+    }
+  }
+}
+
+template <typename Scalar>
+void attention_aggregate(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
+                         const NonDeduced<Scalar>* projected, Index zstride, const NonDeduced<Scalar>* norms,
+                         int32_t begin, int32_t end, NonDeduced<Scalar>* out, Index ostride,
+                         NonDeduced<Scalar>* alpha, NonDeduced<Scalar>* scratch,
+                         NonDeduced<Scalar>* lipschitz_denominator) {
+  switch (params.heads) {
+    case 1:
+      return aggregate_dispatch<Scalar, 1>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
+    case 2:
+      return aggregate_dispatch<Scalar, 2>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
+    case 4:
+      return aggregate_dispatch<Scalar, 4>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
+    case 8:
+      return aggregate_dispatch<Scalar, 8>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
+    default:
+      return aggregate_dispatch<Scalar, 0>(params, graph, projected, zstride, norms, begin, end, out, ostride,
+                                           alpha, scratch, lipschitz_denominator);
+  }
+}
+
+template void attention_node_norms(const AttentionParamsT<float>&, const float*, Index, int32_t, int32_t,
+                                   float*);
+template void attention_node_norms(const AttentionParamsT<double>&, const double*, Index, int32_t, int32_t,
+                                   double*);
+template void attention_aggregate(const AttentionParamsT<float>&, const AttentionGraph&, const float*, Index,
+                                  const float*, int32_t, int32_t, float*, Index, float*, float*, float*);
+template void attention_aggregate(const AttentionParamsT<double>&, const AttentionGraph&, const double*,
+                                  Index, const double*, int32_t, int32_t, double*, Index, double*, double*,
+                                  double*);
+
+}  // namespace pleat::nn
