@@ -42,10 +42,9 @@ static int animate(const pleat_api* api, const pleat_garment* garment, const cha
   pleat_model_info model_info = {0};
   pleat_motion_info motion_info = {0};
   pleat_instance_info info = {0};
-  pleat_poses poses = {0};
   pleat_evaluate_outputs outputs = {0};
   pleat_const_frames written;
-  float *rotations = NULL, *roots = NULL, *positions = NULL;
+  float* positions = NULL;
   pleat_status status;
   const char* step = "loading the model";
   int result = 1;
@@ -85,26 +84,14 @@ static int animate(const pleat_api* api, const pleat_garment* garment, const cha
   printf("instance: %u vertices, %u joints, top-%u skinning; evaluating %zu frames at %g fps\n",
          info.vertex_count, info.joint_count, info.top_k, frames, info.frame_rate);
 
-  rotations = malloc(frames * info.joint_count * 4 * sizeof *rotations);
-  roots = malloc(frames * 3 * sizeof *roots);
   positions = malloc(frames * info.vertex_count * 3 * sizeof *positions);
-  if (!rotations || !roots || !positions) {
+  if (!positions) {
     fprintf(stderr, "out of memory\n");
     goto done;
   }
-  status =
-      api->motion_get_frames(motion, 0, frames, rotations, frames * info.joint_count * 4, roots, frames * 3);
-  if (status == PLEAT_OK) {
-    poses.struct_size = sizeof poses;
-    poses.joint_count = info.joint_count;
-    poses.frame_count = frames;
-    poses.rotations = rotations;
-    poses.root_positions = roots;
-    poses.frame_rate = info.frame_rate;
-    outputs.struct_size = sizeof outputs;
-    outputs.positions.data = positions;
-    status = api->instance_evaluate(instance, &poses, 0, frames, NULL, &outputs);
-  }
+  outputs.struct_size = sizeof outputs;
+  outputs.positions.data = positions;
+  status = api->instance_evaluate_motion(instance, motion, 0, frames, NULL, &outputs);
   if (status != PLEAT_OK) {
     result = fail(api, status, "evaluating the frames");
     goto done;
@@ -121,8 +108,6 @@ static int animate(const pleat_api* api, const pleat_garment* garment, const cha
   result = 0;
 
 done:
-  free(rotations);
-  free(roots);
   free(positions);
   api->instance_destroy(instance);
   api->motion_destroy(motion);

@@ -419,3 +419,77 @@ TEST(CapiModel, HundredThousandFramesDoNotDrift) {
   EXPECT_NE(evaluate(instance.get(), poses, 100010, 1, PLEAT_STAGE_FULL),
             evaluate(instance.get(), poses, 21, 1, PLEAT_STAGE_FULL));
 }
+
+namespace {
+
+using MotionPtr = std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)>;
+
+// A BVH clip of the chain (joints named as chain_body's unless `arm` says
+// otherwise): the hips walk along x and turn, spine and arm swing.
+MotionPtr chain_clip(const std::string& name, const char* arm = "arm", const char* frame_time = "0.0333333") {
+  const std::string path = pleat_test::temp_dir("capi_model_motion") + "/" + name + ".bvh";
+  std::ofstream bvh(path);
+  bvh << "HIERARCHY\nROOT hips\n{\n OFFSET 0 1 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation "
+         "Xrotation "
+         "Yrotation\n JOINT spine\n {\n  OFFSET 0 0.3 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  JOINT "
+      << arm
+      << "\n  {\n   OFFSET 0.3 0.1 0\n   CHANNELS 3 Zrotation Xrotation Yrotation\n   End Site\n   {\n    "
+         "OFFSET 0.2 "
+         "0 0\n   }\n  }\n }\n}\nMOTION\nFrames: 8\nFrame Time: "
+      << frame_time << "\n";
+  for (int f = 0; f < 8; ++f)
+    bvh << 0.02 * f << " 1 0 " << 3 * f << " 0 " << 5 * f << " " << 4 * f << " 2 0 " << -6 * f << " 0 " << f
+        << "\n";
+  bvh.close();
+  pleat_motion_load_options o{};
+  o.struct_size = sizeof o;
+  o.unit_scale = 1.0;
+  pleat_motion* m = nullptr;
+  EXPECT_EQ(pleat_motion_load(path.c_str(), &o, &m), PLEAT_OK) << pleat_last_error();
+  return MotionPtr(m, pleat_motion_destroy);
+}
+
+}  // namespace
+
+// A motion evaluates exactly as its frames copied out into pleat_poses, and
+// one on another skeleton or at another rate is refused by name.
+TEST(CapiModel, MotionsEvaluateAsTheirPoses) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  MotionPtr motion = chain_clip("chain");
+  Poses poses;
+  poses.rotations.resize(8 * kJoints * 4);
+  poses.roots.resize(8 * 3);
+  ASSERT_EQ(pleat_motion_get_frames(motion.get(), 0, 8, poses.rotations.data(), poses.rotations.size(),
+                                    poses.roots.data(), poses.roots.size()),
+            PLEAT_OK)
+      << pleat_last_error();
+  std::vector<float> weights;
+  const std::vector<float> positions = evaluate(instance.get(), poses, 3, 5, PLEAT_STAGE_FULL, &weights);
+
+  const size_t n = positions.size() / 5;
+  std::vector<float> from_motion(positions.size(), -1.0f), motion_weights(weights.size(), -1.0f);
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.positions = {from_motion.data(), 0};
+  out.skinning_weights = {motion_weights.data(), 0};
+  ASSERT_EQ(pleat_instance_evaluate_motion(instance.get(), motion.get(), 3, 5, nullptr, &out), PLEAT_OK)
+      << pleat_last_error();
+  EXPECT_EQ(from_motion, positions) << "frames 0-2 are the history in both";
+  EXPECT_EQ(motion_weights, weights);
+  EXPECT_NE(std::vector<float>(positions.begin(), positions.begin() + n),
+            std::vector<float>(positions.end() - n, positions.end()))
+      << "the clip moves the garment";
+
+  const auto refused = [&](const pleat_motion* m, size_t first, size_t count, const std::string& expected) {
+    EXPECT_EQ(pleat_instance_evaluate_motion(instance.get(), m, first, count, nullptr, &out),
+              PLEAT_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(pleat_last_error()).find(expected), std::string::npos) << pleat_last_error();
+  };
+  refused(chain_clip("hand", "hand").get(), 0, 1, "motion joint 2 is 'hand', the bound body's is 'arm'");
+  refused(chain_clip("fast", "arm", "0.0166667").get(), 0, 1, "poses come at 60");
+  refused(motion.get(), 6, 3, "frames [6, 9) are outside the motion's 8");
+  refused(nullptr, 0, 1, "motion");
+}

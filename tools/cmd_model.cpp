@@ -125,21 +125,7 @@ int run_bake(const Args& args) {
   ii.struct_size = sizeof ii;
   check(pleat_instance_get_info(instance.get(), &ii), "reading the instance");
 
-  // Every frame from 0 up to the last one baked: earlier frames are the
-  // history the model's motion window and velocities look at.
-  const size_t frames_needed = range.first + range.count;
-  const size_t joints = ii.joint_count, n = ii.vertex_count;
-  std::vector<float> rotations(frames_needed * joints * 4), roots(frames_needed * 3);
-  check(pleat_motion_get_frames(motion.get(), 0, frames_needed, rotations.data(), rotations.size(),
-                                roots.data(), roots.size()),
-        "reading the motion's poses");
-  pleat_poses poses{};
-  poses.struct_size = sizeof poses;
-  poses.joint_count = static_cast<uint32_t>(joints);
-  poses.frame_count = frames_needed;
-  poses.rotations = rotations.data();
-  poses.root_positions = roots.data();
-  poses.frame_rate = mi.frame_rate;
+  const size_t n = ii.vertex_count;
   pleat_evaluate_options eo{};
   eo.struct_size = sizeof eo;
   eo.stage = stage_of(args.get("stage", "full"));
@@ -151,7 +137,9 @@ int run_bake(const Args& args) {
     pleat_evaluate_outputs out{};
     out.struct_size = sizeof out;
     out.positions = {positions.data() + f * n * 3, 0};
-    check(pleat_instance_evaluate(instance.get(), &poses, range.first + f, c, &eo, &out),
+    // Frames before range.first are the history the motion window and the
+    // velocities look at; the motion holds them all.
+    check(pleat_instance_evaluate_motion(instance.get(), motion.get(), range.first + f, c, &eo, &out),
           "evaluating frames");
     std::fprintf(stderr, "\rbaked %zu / %zu frames", f + c, range.count);
   }

@@ -44,8 +44,9 @@ extern "C" {
 /* (major << 16) | (minor << 8) | patch, as returned by pleat_version(). */
 #define PLEAT_VERSION_NUMBER ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
 /* Version of the function table returned by pleat_get_api(): 1 = garments,
-   metrics, caches, bodies, motions; 2 = + models and instances. */
-#define PLEAT_API_VERSION 2u
+   metrics, caches, bodies, motions; 2 = + models and instances; 3 = +
+   instance_evaluate_motion. */
+#define PLEAT_API_VERSION 3u
 
 /* ---- Status codes -------------------------------------------------------- */
 
@@ -597,6 +598,17 @@ PLEAT_EXPORT pleat_status pleat_instance_evaluate(pleat_instance* instance, cons
                                                   const pleat_evaluate_options* options,
                                                   const pleat_evaluate_outputs* outputs);
 
+/* pleat_instance_evaluate with a motion's frames as the poses, without
+   copying them: the motion must be on the bound body's skeleton (same joints
+   in the same order: pleat_motion_retarget onto the body) at the model's
+   frame rate (pleat_motion_resample). Frames before first_frame are the
+   history. Allocates nothing; same threading rules as
+   pleat_instance_evaluate (the motion may be shared by threads). */
+PLEAT_EXPORT pleat_status pleat_instance_evaluate_motion(pleat_instance* instance, const pleat_motion* motion,
+                                                         size_t first_frame, size_t frame_count,
+                                                         const pleat_evaluate_options* options,
+                                                         const pleat_evaluate_outputs* outputs);
+
 /* ---- Meshes -------------------------------------------------------------- */
 
 /* Writes a triangle mesh as OBJ, atomically. Thread-safe. */
@@ -724,6 +736,11 @@ typedef struct pleat_api {
   pleat_status (*instance_evaluate)(pleat_instance* instance, const pleat_poses* poses, size_t first_frame,
                                     size_t frame_count, const pleat_evaluate_options* options,
                                     const pleat_evaluate_outputs* outputs);
+  /* frames of a motion on the bound body into the outputs; no copy, no allocation (API version 3) */
+  pleat_status (*instance_evaluate_motion)(pleat_instance* instance, const pleat_motion* motion,
+                                           size_t first_frame, size_t frame_count,
+                                           const pleat_evaluate_options* options,
+                                           const pleat_evaluate_outputs* outputs);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer

@@ -3,6 +3,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "body/body.h"
 #include "body/skeleton.h"
@@ -24,9 +25,14 @@ struct pleat_body {
   std::function<pleat::Body(const Eigen::VectorXd&)> reshape;
 };
 
+// A motion is immutable once made; its poses are also kept as the floats
+// pleat_poses holds (x y z w per joint, root xyz), so instances evaluate it
+// without a copy (pleat_instance_evaluate_motion).
 struct pleat_motion {
+  pleat_motion(pleat::Motion m, double scale);
   pleat::Motion motion;
   double unit_scale = 1.0;  // metres per file unit that loading applied
+  std::vector<float> rotations, root_positions;
 };
 
 struct pleat_model {
@@ -35,4 +41,5 @@ struct pleat_model {
 
 struct pleat_instance {
   pleat::runtime::Instance instance;
+  std::vector<std::string> body_joints;  // the bound body's joint names, in its order
 };

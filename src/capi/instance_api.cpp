@@ -49,6 +49,22 @@ runtime::OutputBuffer output(pleat_frames frames, const char* name, size_t float
   return {frames.data, frames.frame_stride};
 }
 
+// Frames [first, first + count) of `poses` into the caller's outputs.
+void evaluate(runtime::Instance& in, const runtime::PoseSequence& poses, size_t first, size_t count,
+              const pleat_evaluate_options* options, const pleat_evaluate_outputs* outputs) {
+  const auto o = read_options(outputs, "pleat_evaluate_outputs");
+  const size_t n = static_cast<size_t>(in.vertex_count());
+  runtime::EvaluateOutputs out;
+  out.positions = output(o.positions, "positions", n * 3);
+  out.normals = output(o.normals, "normals", n * 3);
+  out.skinning_weights =
+      output(o.skinning_weights, "skinning_weights", n * static_cast<size_t>(in.model().joint_count()));
+  out.low = output(o.low, "low", n * 3);
+  out.mid = output(o.mid, "mid", n * 3);
+  out.high = output(o.high, "high", n * 3);
+  in.evaluate(poses, static_cast<int64_t>(first), static_cast<int64_t>(count), stage_of(options), out);
+}
+
 }  // namespace
 
 extern "C" {
@@ -62,7 +78,8 @@ pleat_status pleat_instance_create(const pleat_model* model, const pleat_garment
     require_not_null(body, "body");
     require_not_null(out_instance, "out_instance");
     *out_instance = new pleat_instance{
-        runtime::Instance(model->model, garment->garment, body->body, instance_options(options))};
+        runtime::Instance(model->model, garment->garment, body->body, instance_options(options)),
+        body->body.skeleton.names};
   });
 }
 
@@ -95,7 +112,6 @@ pleat_status pleat_instance_evaluate(pleat_instance* instance, const pleat_poses
     require_not_null(outputs, "outputs");
     runtime::Instance& in = instance->instance;
     const auto p = read_options(poses, "pleat_poses");
-    const auto o = read_options(outputs, "pleat_evaluate_outputs");
     require(p.frame_count <= static_cast<size_t>(std::numeric_limits<int64_t>::max()) &&
                 first_frame <= p.frame_count && frame_count <= p.frame_count - first_frame,
             "frames [" + std::to_string(first_frame) + ", " + std::to_string(first_frame + frame_count) +
@@ -108,18 +124,43 @@ pleat_status pleat_instance_evaluate(pleat_instance* instance, const pleat_poses
     sequence.frame_count = static_cast<int64_t>(p.frame_count);
     sequence.joint_count = static_cast<int32_t>(p.joint_count);
     sequence.frame_rate = p.frame_rate;
+    evaluate(in, sequence, first_frame, frame_count, options, outputs);
+  });
+}
 
-    const size_t n = static_cast<size_t>(in.vertex_count());
-    runtime::EvaluateOutputs out;
-    out.positions = output(o.positions, "positions", n * 3);
-    out.normals = output(o.normals, "normals", n * 3);
-    out.skinning_weights =
-        output(o.skinning_weights, "skinning_weights", n * static_cast<size_t>(in.model().joint_count()));
-    out.low = output(o.low, "low", n * 3);
-    out.mid = output(o.mid, "mid", n * 3);
-    out.high = output(o.high, "high", n * 3);
-    in.evaluate(sequence, static_cast<int64_t>(first_frame), static_cast<int64_t>(frame_count),
-                stage_of(options), out);
+pleat_status pleat_instance_evaluate_motion(pleat_instance* instance, const pleat_motion* motion,
+                                            size_t first_frame, size_t frame_count,
+                                            const pleat_evaluate_options* options,
+                                            const pleat_evaluate_outputs* outputs) {
+  return guarded(__func__, [&] {
+    require_not_null(instance, "instance");
+    require_not_null(motion, "motion");
+    require_not_null(outputs, "outputs");
+    const Motion& m = motion->motion;
+    const std::vector<std::string>& body = instance->body_joints;
+    // Messages are built only on failure: a valid call allocates nothing.
+    if (m.skeleton.names.size() != body.size())
+      fail(PLEAT_ERROR_INVALID_ARGUMENT, "the motion has " + std::to_string(m.skeleton.names.size()) +
+                                             " joints, the bound body " + std::to_string(body.size()) +
+                                             ": retarget it onto the body (pleat_motion_retarget)");
+    for (size_t j = 0; j < body.size(); ++j)
+      if (m.skeleton.names[j] != body[j])
+        fail(PLEAT_ERROR_INVALID_ARGUMENT,
+             "motion joint " + std::to_string(j) + " is '" + m.skeleton.names[j] +
+                 "', the bound body's is '" + body[j] +
+                 "': retarget the motion onto the body (pleat_motion_retarget)");
+    const auto frames = static_cast<size_t>(m.frame_count);
+    if (first_frame > frames || frame_count > frames - first_frame)
+      fail(PLEAT_ERROR_INVALID_ARGUMENT, "frames [" + std::to_string(first_frame) + ", " +
+                                             std::to_string(first_frame + frame_count) +
+                                             ") are outside the motion's " + std::to_string(frames));
+    runtime::PoseSequence sequence;
+    sequence.rotations = motion->rotations.data();
+    sequence.root_positions = motion->root_positions.data();
+    sequence.frame_count = m.frame_count;
+    sequence.joint_count = m.skeleton.joint_count();
+    sequence.frame_rate = m.frame_rate;
+    evaluate(instance->instance, sequence, first_frame, frame_count, options, outputs);
   });
 }
 

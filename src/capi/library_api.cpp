@@ -87,6 +87,8 @@ const pleat_api* pleat_get_api(uint32_t version) {
       pleat_instance_destroy,
       pleat_instance_get_info,
       pleat_instance_evaluate,
+      // API version 3.
+      pleat_instance_evaluate_motion,
   };
   // Every version up to the current one is served by the same, grown table:
   // older callers only read its prefix.

@@ -1,4 +1,5 @@
 // C entry points for motions: BVH and FBX/glTF clips, resampling, retargeting.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -10,6 +11,19 @@
 
 using namespace pleat;
 using namespace pleat::capi;
+
+pleat_motion::pleat_motion(Motion m, double scale) : motion(std::move(m)), unit_scale(scale) {
+  const auto frames = static_cast<size_t>(motion.frame_count);
+  const auto joints = static_cast<size_t>(motion.skeleton.joint_count());
+  rotations.resize(frames * joints * 4);
+  root_positions.resize(frames * 3);
+  for (size_t i = 0; i < frames * joints; ++i)
+    Eigen::Map<Eigen::Vector4f>(rotations.data() + i * 4) =
+        motion.rotations[i].coeffs().cast<float>();  // x y z w
+  for (size_t f = 0; f < frames; ++f)
+    Eigen::Map<Eigen::RowVector3f>(root_positions.data() + f * 3) =
+        motion.root_translation.row(static_cast<Eigen::Index>(f)).cast<float>();
+}
 
 namespace {
 
@@ -115,16 +129,10 @@ pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_fr
     if (root_positions && root_capacity < frame_count * 3)
       fail(PLEAT_ERROR_BUFFER_TOO_SMALL,
            "root_capacity is below frame_count * 3 = " + std::to_string(frame_count * 3));
-    for (size_t f = 0; f < frame_count; ++f) {
-      const Eigen::Quaterniond* q = m.frame(static_cast<int64_t>(first_frame + f));
-      if (rotations)
-        for (size_t j = 0; j < joints; ++j)
-          Eigen::Map<Eigen::Vector4f>(rotations + (f * joints + j) * 4) =
-              q[j].coeffs().cast<float>();  // x y z w
-      if (root_positions)
-        Eigen::Map<Eigen::RowVector3f>(root_positions + f * 3) =
-            m.root_translation.row(static_cast<Eigen::Index>(first_frame + f)).cast<float>();
-    }
+    if (rotations)
+      std::copy_n(motion->rotations.data() + first_frame * joints * 4, frame_count * joints * 4, rotations);
+    if (root_positions)
+      std::copy_n(motion->root_positions.data() + first_frame * 3, frame_count * 3, root_positions);
   });
 }
 
