@@ -128,7 +128,7 @@ void convert_frames(const RawBvh& raw, bool relative, const Eigen::Quaterniond& 
   Motion& m = clip->motion;
   BvhConversion& conv = clip->conversion;
   const auto n = static_cast<int32_t>(raw.joints.size());
-  const bool rotate = !axes.coeffs().isApprox(Eigen::Quaterniond::Identity().coeffs());
+  const bool rotate = conv.z_up_converted;  // axes is the identity otherwise
   m.frame_count = raw.frame_count;
   m.rotations.resize(static_cast<size_t>(m.frame_count) * static_cast<size_t>(n));
   m.root_translation.resize(m.frame_count, 3);

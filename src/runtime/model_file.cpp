@@ -1,6 +1,5 @@
 #include "runtime/model_file.h"
 
-#include <cstring>
 #include <fstream>
 #include <iterator>
 
