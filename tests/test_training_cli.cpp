@@ -241,3 +241,72 @@ TEST(TrainingCli, ADataSetListJoinsTheSplits) {
     EXPECT_NE(std::string(e.what()).find("nowhere"), std::string::npos) << e.what();
   }
 }
+
+// Fine-tuning: a run may start from a model file (a shipped model and new
+// clips). The network begins with the file's weights, not a fresh draw, and
+// a file made for another skeleton is refused, naming it.
+TEST(TrainingCli, InitialModelStartsFromTheFilesWeights) {
+  const std::string root = pleat_test::temp_dir("training_initial_model");
+  pleat_test::write_skirt_walk(root);
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
+  const std::string small = R"("model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8],
+      "gru_layers": 1, "blend_widths": [8, 3], "refinement_widths": [8, 3]})";
+  std::ofstream(root + "/fresh.json") << R"({"train": ["skirt_walk"], "schedule": "schedule.json",
+      "output": "fresh", "epochs": 1, "batch_frames": 8, "progress": false, "plot": false, )"
+                                      << small << "}";
+  pleat::training::Trainer fresh(pleat::training::read_trainer_config(root + "/fresh.json"));
+  const std::shared_ptr<pleat::runtime::Model> untrained = fresh.export_model();
+  fresh.train_epoch();
+  pleat::runtime::save_model(*fresh.export_model(), root + "/start.pleat");
+  const auto start = pleat::runtime::load_model_file(root + "/start.pleat");
+
+  std::ofstream(root + "/tuned.json") << R"({"train": ["skirt_walk"], "schedule": "schedule.json",
+      "output": "tuned", "epochs": 1, "progress": false, "plot": false, "initial_model": "start.pleat"})";
+  pleat::training::Trainer tuned(pleat::training::read_trainer_config(root + "/tuned.json"));
+  const std::shared_ptr<pleat::runtime::Model> tuned_start = tuned.export_model();
+  const auto begins = pleat::runtime::model_tensors(*tuned_start);
+  const auto file = pleat::runtime::model_tensors(*start), drawn = pleat::runtime::model_tensors(*untrained);
+  ASSERT_EQ(begins.size(), file.size());
+  ASSERT_EQ(drawn.size(), file.size());
+  size_t moved = 0;
+  for (size_t t = 0; t < file.size(); ++t) {
+    ASSERT_EQ(begins[t].size(), file[t].size()) << file[t].name;
+    for (size_t i = 0; i < file[t].size(); ++i) {
+      ASSERT_EQ(begins[t].data[i], file[t].data[i]) << file[t].name << " [" << i << "]";
+      moved += drawn[t].data[i] != file[t].data[i];
+    }
+  }
+  EXPECT_GT(moved, 100u) << "one epoch moved the weights away from the fresh draw";
+
+  // Another skeleton: the same network on a body with one joint renamed.
+  pleat::runtime::ModelSkeleton other = start->skeleton;
+  other.joint_names.back() += "_renamed";
+  pleat::runtime::ModelInitOptions options;
+  options.code_width = 8;
+  options.body_widths = {8};
+  options.garment_widths = {8, 8};
+  options.gru_layers = 1;
+  options.blend_widths = {8, 3};
+  options.refinement_widths = {8, 3};
+  pleat::runtime::save_model(*pleat::runtime::initialize_model(other, start->shape, options),
+                             root + "/other.pleat");
+  std::ofstream(root + "/other.json") << R"({"train": ["skirt_walk"], "schedule": "schedule.json",
+      "output": "other", "progress": false, "initial_model": "other.pleat"})";
+  try {
+    pleat::training::Trainer refused(pleat::training::read_trainer_config(root + "/other.json"));
+    ADD_FAILURE() << "a model for another skeleton is refused";
+  } catch (const pleat::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("other.pleat"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("skeleton"), std::string::npos) << e.what();
+  }
+  std::ofstream(root + "/both.json") << R"({"train": ["skirt_walk"], "schedule": "schedule.json",
+      "output": "both", "initial_model": "start.pleat", )"
+                                     << small << "}";
+  try {
+    pleat::training::read_trainer_config(root + "/both.json");
+    ADD_FAILURE() << "initial_model with a model section is refused";
+  } catch (const pleat::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("initial_model and model"), std::string::npos) << e.what();
+  }
+}

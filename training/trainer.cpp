@@ -142,6 +142,14 @@ TrainerConfig read_trainer_config(const std::string& path) {
     c.frequency_division = j.value("frequency_division", c.frequency_division);
     c.progress = j.value("progress", c.progress);
     c.plot = j.value("plot", c.plot);
+    if (j.contains("initial_model")) {
+      if (j.contains("model"))
+        bad_config(path,
+                   "initial_model and model exclude each other: a model file carries its own "
+                   "architecture and settings");
+      const std::filesystem::path initial = j["initial_model"].get<std::string>();
+      c.initial_model = (initial.is_relative() ? base / initial : initial).string();
+    }
     if (j.contains("model")) {
       const Json& m = j["model"];
       c.model.variant = variant_named(m.value("variant", std::string("flexigat")), path);
@@ -180,10 +188,7 @@ Trainer::Trainer(TrainerConfig config)
     fail(PLEAT_ERROR_FORMAT, "training config '" + config_.source +
                                  "': no training sequence (a data set's splits.json lists them once "
                                  "pleat datagen has simulated them)");
-  const Body& body = train_.sequences().front().body;
-  std::vector<runtime::ShapeEntry> shape;
-  for (const ShapeParameter& p : body.shape) shape.push_back({p.name, static_cast<float>(p.default_value)});
-  initial_ = runtime::initialize_model({body.skeleton.names, body.skeleton.parents}, shape, config_.model);
+  initial_ = starting_model(train_.sequences().front().body);
   network_ = Network(*initial_);
   optimizer_ = std::make_unique<Adamax>(network_->parameters(), config_.learning_rate);
   for (const TrainingSequence& s : train_.sequences())
@@ -202,6 +207,29 @@ Trainer::Trainer(TrainerConfig config)
   train_lbs_ = lbs_baseline(train_);
   std::filesystem::create_directories(config_.output);
   load_checkpoint();
+}
+
+std::shared_ptr<runtime::Model> Trainer::starting_model(const Body& body) {
+  std::vector<runtime::ShapeEntry> shape;
+  for (const ShapeParameter& p : body.shape) shape.push_back({p.name, static_cast<float>(p.default_value)});
+  if (config_.initial_model.empty())
+    return runtime::initialize_model({body.skeleton.names, body.skeleton.parents}, shape, config_.model);
+  std::shared_ptr<runtime::Model> m = runtime::load_model_file(config_.initial_model);
+  const std::string where =
+      "initial_model '" + config_.initial_model + "' of training config '" + config_.source + "'";
+  if (m->skeleton.joint_names != body.skeleton.names || m->skeleton.parents != body.skeleton.parents)
+    fail(PLEAT_ERROR_FORMAT, where + ": its skeleton is not the training body's");
+  std::vector<std::string> trained, asked;
+  for (const runtime::ShapeEntry& e : m->shape) trained.push_back(e.name);
+  for (const runtime::ShapeEntry& e : shape) asked.push_back(e.name);
+  if (trained != asked)
+    fail(PLEAT_ERROR_FORMAT, where + ": its shape parameters are not the training body's");
+  // A checkpoint of this run is checked against these, as for a fresh model.
+  config_.model.body_vertex_stride = m->body_vertex_stride;
+  config_.model.offset_filter_length = m->offset_filter_length;
+  config_.model.skinning_prior_radius = m->skinning_prior_radius;
+  config_.model.skinning_prior_floor = m->skinning_prior_floor;
+  return m;
 }
 
 std::vector<LossTerm> Trainer::batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,

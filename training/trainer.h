@@ -37,6 +37,9 @@ struct TrainerConfig {
   uint64_t seed = 1;
   bool frequency_division = true;  // false: plain vertex loss (the ablation without FreqDiv)
   runtime::ModelInitOptions model;
+  // A model file to start from (fine-tuning: its weights, architecture and
+  // settings); empty: a fresh model built from `model`.
+  std::string initial_model;
   bool progress = true;  // a progress bar on stderr
   bool plot = true;      // <output>/curves.png from log.csv after each run (matplotlib)
 };
@@ -98,6 +101,7 @@ class Trainer {
   const Dataset& training_data() const { return train_; }
 
  private:
+  std::shared_ptr<runtime::Model> starting_model(const Body& body);
   struct Garments;  // losses' per-garment data (geometry, bands)
   std::vector<LossTerm> batch_loss(const TrainingSequence& s, const std::vector<int64_t>& frames,
                                    double* vertex_cm);
