@@ -20,10 +20,13 @@
 #include "body/makehuman.h"
 #include "body/motion_ops.h"
 #include "garment/garment.h"
+#include "nn/gemm.h"
 #include "nn/tensor.h"
 #include "runtime/instance.h"
 #include "runtime/model_init.h"
 #include "spectral/blas_threads.h"
+
+extern "C" char* openblas_get_corename(void);
 
 using namespace pleat;
 using namespace pleat::runtime;
@@ -111,8 +114,24 @@ int main(int argc, char** argv) {
     std::getline(load, line);
     std::printf("load average: %s\n", line.c_str());
   }
+  {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(cpuinfo, line))
+      if (line.rfind("model name", 0) == 0) {
+        std::printf("cpu: %s\n", line.substr(line.find(':') + 2).c_str());
+        break;
+      }
+  }
   const double peak = sgemm_peak(reps);
-  std::printf("sgemm peak (OpenBLAS, 2 threads, same run): %.1f GFLOP/s\n", peak);
+  std::printf("sgemm peak (OpenBLAS %s kernels, 2 threads, same run): %.1f GFLOP/s\n",
+              openblas_get_corename(), peak);
+  // Every stage is timed with each GEMM kernel the CPU runs (nn/gemm.h);
+  // fps and GFLOP/s are for the default, the last of them.
+  std::vector<nn::GemmKernel> kernels;
+  for (nn::GemmKernel k : {nn::GemmKernel::baseline, nn::GemmKernel::avx2})
+    if (nn::set_gemm_kernel(k)) kernels.push_back(k);
+  std::printf("inference GEMM: %s by default\n", nn::gemm_kernel_name(kernels.back()));
 
   const Body body = MakeHumanModel::load(assets + "/body")->body(makehuman_default_beta());
   ModelSkeleton skeleton{body.skeleton.names, body.skeleton.parents};
@@ -138,8 +157,8 @@ int main(int argc, char** argv) {
 
   std::printf("\nfull model: %lld parameters, window %d, top-k %d; batch of 8 frames per call\n",
               static_cast<long long>(parameter_count(*model)), model->window_frames, model->default_top_k);
-  std::printf("%7s %7s %-12s %9s %9s %9s %8s %7s\n", "N", "threads", "stage", "ms/frame", "fps", "MFLOP/fr",
-              "GFLOP/s", "% peak");
+  std::printf("%7s %7s %-12s %13s %13s %9s %9s %8s %7s\n", "N", "threads", "stage", "ms/fr baseline",
+              "ms/fr avx2", "fps", "MFLOP/fr", "GFLOP/s", "% peak");
   const std::vector<std::pair<int, int>> sizes =
       quick ? std::vector<std::pair<int, int>>{{32, 32}, {64, 64}}
             : std::vector<std::pair<int, int>>{{32, 32}, {64, 64}, {128, 128}};
@@ -159,12 +178,17 @@ int main(int argc, char** argv) {
            {std::tuple<Stage, const char*, double>{Stage::skinning, "skinning", flops.skinning},
             {Stage::blend_shapes, "blend-shapes", flops.blend},
             {Stage::refinement, "full", flops.refinement}}) {
-        const double t = pleat_bench::median_seconds(
-                             [&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); }, reps) /
-                         8.0;
+        double ms[2] = {NAN, NAN}, t = 0.0;
+        for (nn::GemmKernel kernel : kernels) {
+          nn::set_gemm_kernel(kernel);
+          t = pleat_bench::median_seconds([&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); },
+                                          reps) /
+              8.0;
+          ms[kernel == nn::GemmKernel::avx2] = t * 1e3;
+        }
         const double gflops = f / t * 1e-9;
-        std::printf("%7d %7d %-12s %9.3f %9.1f %9.1f %8.1f %6.1f%%\n", n, threads, name, t * 1e3, 1.0 / t,
-                    f * 1e-6, gflops, 100.0 * gflops / peak);
+        std::printf("%7d %7d %-12s %13.3f %13.3f %9.1f %9.1f %8.1f %6.1f%%\n", n, threads, name, ms[0], ms[1],
+                    1.0 / t, f * 1e-6, gflops, 100.0 * gflops / peak);
       }
     }
   }

@@ -1,5 +1,7 @@
 #include "nn/dense.h"
 
+#include "nn/gemm.h"
+
 namespace pleat::nn {
 
 namespace {
@@ -18,7 +20,7 @@ void dense_forward(const Dense& layer, ConstMatrixRef x, const Activation& act, 
   check_shape(kKind, layer.name, "output y", y.rows(), y.cols(), x.rows(), layer.out_width());
   if (layer.bias.size() != 0 && layer.bias.size() != layer.out_width())
     check_shape(kKind, layer.name, "bias", 1, layer.bias.size(), 1, layer.out_width());
-  y.noalias() = x * layer.weight;
+  gemm(x, layer.weight, y);
   for (Index r = 0; r < y.rows(); ++r) {
     float* row = y.row(r).data();
     if (layer.bias.size() != 0) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "nn/gemm.h"
+
 namespace pleat::nn {
 
 namespace {
@@ -148,9 +150,8 @@ void project_task(void* context, int32_t task) {
   const int32_t begin = task * kAttentionTaskRows;
   const int32_t end = std::min(job.n, begin + kAttentionTaskRows);
   MatrixMap z = view(job.z + static_cast<Index>(begin) * job.z_width, end - begin, job.z_width);
-  z.noalias() =
-      view(job.v + static_cast<Index>(begin) * job.v_stride, end - begin, job.in_width, job.v_stride) *
-      *job.folded;
+  gemm(view(job.v + static_cast<Index>(begin) * job.v_stride, end - begin, job.in_width, job.v_stride),
+       *job.folded, z);
   if (job.norms != nullptr) attention_node_norms(*job.params, job.z, job.z_width, begin, end, job.norms);
 }
 

@@ -2,6 +2,8 @@
 
 #include <Eigen/Core>
 
+#include "nn/gemm.h"
+
 namespace pleat::nn {
 
 namespace {
@@ -25,8 +27,8 @@ void check_layers(const Gru& gru) {
 // One layer, one step, in place on h (batch x H). gi, gh: batch x 3H scratch.
 void layer_step(const GruLayer& layer, ConstMatrixRef x, MatrixRef h, MatrixMap gi, MatrixMap gh) {
   const Index hw = h.cols();
-  gi.noalias() = x * layer.w_ih;
-  gh.noalias() = h * layer.w_hh;
+  gemm(x, layer.w_ih, gi);
+  gemm(h, layer.w_hh, gh);
   for (Index b = 0; b < h.rows(); ++b) {
     Eigen::Map<Eigen::ArrayXf> i(gi.row(b).data(), 3 * hw);
     Eigen::Map<Eigen::ArrayXf> g(gh.row(b).data(), 3 * hw);

@@ -11,6 +11,7 @@
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "core/geometry.h"
+#include "nn/gemm.h"
 #include "nn/mlp.h"
 #include "nn/parallel.h"
 #include "runtime/binding.h"
@@ -253,7 +254,7 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     const Index rows = end - begin;
     auto l = logits.middleRows(begin, rows);
-    l.noalias() = fused_static.middleRows(begin, rows) * skinning_q;
+    nn::gemm(fused_static.middleRows(begin, rows), skinning_q, l);
     if (m.skinning.bias.size() != 0) l.rowwise() += m.skinning.bias;
     if (binding->prior.size() != 0) l += binding->prior.middleRows(begin, rows);
     for (int32_t v = begin; v < end; ++v)
