@@ -3,6 +3,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "io/point_cache.h"
 #include "support/test_support.h"
@@ -41,6 +43,29 @@ TEST(Cli, PrepareReportsAndWritesAFileInspectReadsBack) {
       << text;
   EXPECT_NE(text.find("garment: 2205 vertices"), std::string::npos) << text;
   EXPECT_NE(text.find("band energy"), std::string::npos) << text;
+}
+
+// A bake that meets a full disk (ulimit -f: the write stops short, then fails
+// with EFBIG, as on ENOSPC) exits 1 naming the file; the previous cache stays
+// byte for byte and no temporary file is left beside it.
+TEST(Cli, BakeOnAFullDiskKeepsThePreviousCache) {
+  const std::string dir = pleat_test::temp_dir("cli_full_disk");
+  const std::string out = dir + "/dress.pc2";
+  std::ofstream(out) << "previous bake\n";
+  const std::string bake = env("PLEAT_CLI") + " bake --model " + pleat_test::source_dir() +
+                           "/data/models/dress.pleat --garment " + dress() + " --unit-scale 0.1 --body " +
+                           pleat_test::asset_dir() + "/body --motion " + pleat_test::source_dir() +
+                           "/tests/fixtures/motion/12_03_walk_121.bvh --frames 5 -o " + out;
+  std::string text;
+  // 5 frames of 2205 vertices are 132 KiB; the limit is 64 KiB.
+  EXPECT_EQ(pleat_test::run_command("bash -c \"trap '' XFSZ; ulimit -f 64; exec " + bake + "\" 2>&1", &text),
+            1)
+      << text;
+  EXPECT_NE(text.find("PLEAT_ERROR_IO"), std::string::npos) << text;
+  EXPECT_NE(text.find("cannot write '" + out + "'"), std::string::npos) << text;
+  std::ifstream in(out);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "previous bake\n");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), {}), 1) << "a temporary file stayed";
 }
 
 TEST(Cli, ErrorsExitNonZeroWithTheReason) {

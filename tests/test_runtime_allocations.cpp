@@ -4,7 +4,6 @@
 // not call it while it evaluates.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdlib>
 #include <vector>
 
@@ -14,41 +13,7 @@
 #include "runtime/model_init.h"
 #include "spectral/bands.h"
 #include "support/chain_fixtures.h"
-
-namespace {
-std::atomic<long> allocations{0};
-}
-
-// ASan brings its own allocator; the interposition only exists without it.
-#if !defined(__SANITIZE_ADDRESS__)
-extern "C" {
-void* __libc_malloc(size_t);
-void* __libc_calloc(size_t, size_t);
-void* __libc_realloc(void*, size_t);
-void* __libc_memalign(size_t, size_t);
-void* malloc(size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-void* calloc(size_t count, size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(count, size);
-}
-void* realloc(void* p, size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-void* aligned_alloc(size_t alignment, size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, size_t alignment, size_t size) {
-  allocations.fetch_add(1, std::memory_order_relaxed);
-  *out = __libc_memalign(alignment, size);
-  return *out ? 0 : 12;  // ENOMEM
-}
-}
-#endif
+#include "support/interposed_allocator.h"
 
 namespace {
 
@@ -56,9 +21,8 @@ using namespace pleat;
 using namespace pleat::runtime;
 
 TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "the allocator cannot be interposed under AddressSanitizer (the Release build runs this)";
-#endif
+  if (!pleat_test::kAllocatorInterposed)
+    GTEST_SKIP() << "the allocator cannot be interposed under AddressSanitizer (the Release build runs this)";
   const Body body = pleat_test::chain_body();
 
   // A 12 x 12 grid garment, prepared (bands), and a small model with an
@@ -111,14 +75,14 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
   out.high = {high.data(), size_t(n) * 3};
 
   for (Stage stage : {Stage::skinning, Stage::blend_shapes, Stage::refinement}) {
-    const long before = allocations.load();
+    const long before = pleat_test::allocation_count();
     instance.evaluate(poses, 3, frames - 3, stage, out);
-    EXPECT_EQ(allocations.load() - before, 0) << "stage " << int(stage);
+    EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "stage " << int(stage);
   }
   // The counter works: binding allocates.
-  const long before = allocations.load();
+  const long before = pleat_test::allocation_count();
   Instance another(model, garment, body, io);
-  EXPECT_GT(allocations.load() - before, 10);
+  EXPECT_GT(pleat_test::allocation_count() - before, 10);
 }
 
 }  // namespace

@@ -10,7 +10,10 @@
 
 namespace pleat::capi {
 
-void set_last_error(const std::string& message);
+// "<function>: <prefix><detail>" becomes the thread's last error. Never
+// throws: when the message cannot be allocated (the failure being reported
+// may be exactly that), the last error is a fixed text that says so.
+void set_last_error(const char* function, const char* prefix, const char* detail) noexcept;
 
 // Runs body(); maps pleat::Error to its status, bad_alloc to
 // PLEAT_ERROR_OUT_OF_MEMORY and anything else to PLEAT_ERROR_INTERNAL, with
@@ -21,16 +24,16 @@ pleat_status guarded(const char* function, Body&& body) noexcept {
     body();
     return PLEAT_OK;
   } catch (const Error& e) {
-    set_last_error(std::string(function) + ": " + e.what());
+    set_last_error(function, "", e.what());
     return e.status();
   } catch (const std::bad_alloc&) {
-    set_last_error(std::string(function) + ": out of memory");
+    set_last_error(function, "", "out of memory");
     return PLEAT_ERROR_OUT_OF_MEMORY;
   } catch (const std::exception& e) {
-    set_last_error(std::string(function) + ": internal error: " + e.what());
+    set_last_error(function, "internal error: ", e.what());
     return PLEAT_ERROR_INTERNAL;
   } catch (...) {
-    set_last_error(std::string(function) + ": internal error");
+    set_last_error(function, "", "internal error");
     return PLEAT_ERROR_INTERNAL;
   }
 }

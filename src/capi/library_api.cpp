@@ -4,9 +4,16 @@
 namespace pleat::capi {
 namespace {
 thread_local std::string last_error;
-}
-void set_last_error(const std::string& message) {
-  last_error = message;
+thread_local const char* fixed_error = nullptr;  // set when last_error could not be
+}  // namespace
+
+void set_last_error(const char* function, const char* prefix, const char* detail) noexcept {
+  try {
+    last_error.assign(function).append(": ").append(prefix).append(detail);
+    fixed_error = nullptr;
+  } catch (...) {
+    fixed_error = "out of memory while reporting an error";
+  }
 }
 }  // namespace pleat::capi
 
@@ -17,7 +24,7 @@ uint32_t pleat_version(void) {
 }
 
 const char* pleat_last_error(void) {
-  return pleat::capi::last_error.c_str();
+  return pleat::capi::fixed_error ? pleat::capi::fixed_error : pleat::capi::last_error.c_str();
 }
 
 const char* pleat_status_name(pleat_status status) {

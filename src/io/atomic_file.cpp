@@ -35,6 +35,11 @@ std::string temp_name(const std::string& path, unsigned attempt) {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   if (path_.empty() || path_.back() == '/') fail(PLEAT_ERROR_IO, "not a file path: '" + path_ + "'");
+  // Everything that allocates comes before the file exists: a constructor
+  // that throws after open() would leave the temporary file behind.
+  folder_ = std::filesystem::path(path_).parent_path().string();
+  if (folder_.empty()) folder_ = ".";
+  buffer_.reserve(kBufferBytes);
   for (unsigned attempt = 0; fd_ < 0; ++attempt) {
     temp_path_ = temp_name(path_, attempt);
     // 0666 before the umask: the file gets the permissions any new file would.
@@ -42,7 +47,6 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     if (fd_ < 0 && (errno != EEXIST || attempt == 100))
       fail_io("cannot create a temporary file for", path_, errno);
   }
-  buffer_.reserve(kBufferBytes);
 }
 
 AtomicFile::~AtomicFile() {
@@ -51,7 +55,7 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::write(const void* data, size_t bytes) {
-  if (fd_ < 0) fail(PLEAT_ERROR_IO, "write after commit to '" + path_ + "'");
+  if (fd_ < 0) fail(PLEAT_ERROR_IO, "write after finish to '" + path_ + "'");
   const char* p = static_cast<const char*>(data);
   if (buffer_.size() + bytes > kBufferBytes) flush();
   if (bytes >= kBufferBytes)
@@ -80,8 +84,8 @@ void AtomicFile::close_fd() {
   fd_ = -1;
 }
 
-void AtomicFile::commit() {
-  if (fd_ < 0) fail(PLEAT_ERROR_IO, "commit twice to '" + path_ + "'");
+void AtomicFile::finish() {
+  if (finished_) fail(PLEAT_ERROR_IO, "finish twice for '" + path_ + "'");
   flush();
   // fsync before rename: otherwise a crash can leave the new name pointing at
   // an empty file on file systems that reorder metadata and data (ext4, xfs).
@@ -89,12 +93,19 @@ void AtomicFile::commit() {
   int fd = fd_;
   fd_ = -1;
   if (::close(fd) != 0) fail_io("cannot close", path_, errno);
+  finished_ = true;
+  std::vector<char>().swap(buffer_);
+}
+
+void AtomicFile::commit() {
+  if (committed_) fail(PLEAT_ERROR_IO, "commit twice to '" + path_ + "'");
+  if (!finished_) finish();
   if (::rename(temp_path_.c_str(), path_.c_str()) != 0) fail_io("cannot rename onto", path_, errno);
   committed_ = true;
   // Persist the rename itself. Best effort: some file systems refuse to sync a
-  // folder, and the data is already complete under the final name.
-  std::string folder = std::filesystem::path(path_).parent_path().string();
-  int dir = ::open(folder.empty() ? "." : folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  // folder, and the data is already complete under the final name. Nothing
+  // here may allocate or throw: the call has succeeded.
+  int dir = ::open(folder_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
     ::fsync(dir);
     ::close(dir);

@@ -24,8 +24,15 @@ class AtomicFile {
   void write(const void* data, size_t bytes);
   void write(std::string_view text) { write(text.data(), text.size()); }
 
-  // Flushes, fsyncs and renames onto the final path (replacing an existing
-  // file). Throws PLEAT_ERROR_IO; the temporary file is removed on failure.
+  // Flushes, fsyncs and closes the temporary file and frees the buffer: the
+  // bytes are on disk, not yet under the final name. A writer of several
+  // files finishes them all before committing any, so that a failure in the
+  // last one leaves every old file in place. Throws PLEAT_ERROR_IO.
+  void finish();
+
+  // Finishes (if not done) and renames onto the final path, replacing an
+  // existing file. Throws PLEAT_ERROR_IO; the temporary file is removed on
+  // failure.
   void commit();
 
   const std::string& path() const { return path_; }
@@ -38,7 +45,9 @@ class AtomicFile {
 
   std::string path_;
   std::string temp_path_;
+  std::string folder_;  // of path_, for the sync after the rename
   int fd_ = -1;
+  bool finished_ = false;
   bool committed_ = false;
   std::vector<char> buffer_;
 };

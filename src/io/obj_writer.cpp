@@ -44,11 +44,16 @@ void check_triangles(const Triangles& triangles, size_t vertex_count) {
 
 void write_obj(const std::string& path, const float* positions, size_t vertex_count,
                const Triangles& triangles, const float* normals) {
+  AtomicFile file(path);
+  write_obj(file, positions, vertex_count, triangles, normals);
+  file.commit();
+}
+
+void write_obj(AtomicFile& file, const float* positions, size_t vertex_count, const Triangles& triangles,
+               const float* normals) {
   check_finite(positions, vertex_count, "position");
   if (normals) check_finite(normals, vertex_count, "normal");
   check_triangles(triangles, vertex_count);
-
-  AtomicFile file(path);
   std::string text = "# written by pleat\n";
   text.reserve(size_t{40} * vertex_count * (normals ? 2 : 1));
   for (size_t v = 0; v < vertex_count; ++v) append_vector(&text, "v", positions + 3 * v);
@@ -64,7 +69,6 @@ void write_obj(const std::string& path, const float* positions, size_t vertex_co
     text.push_back('\n');
   }
   file.write(text);
-  file.commit();
 }
 
 }  // namespace pleat

@@ -7,6 +7,8 @@
 
 namespace pleat {
 
+class AtomicFile;
+
 // positions: vertex_count xyz floats; normals: the same layout or nullptr.
 // Coordinates are written with the shortest text that reads back to the same
 // float, so an OBJ round trip is bit-exact. Faces are 1-based "f a b c" (or
@@ -15,6 +17,11 @@ namespace pleat {
 // PLEAT_ERROR_IO when the file cannot be written.
 void write_obj(const std::string& path, const float* positions, size_t vertex_count,
                const Triangles& triangles, const float* normals = nullptr);
+
+// The same text into an open file, left for the caller to finish or commit
+// (an OBJ sequence commits its frames together).
+void write_obj(AtomicFile& file, const float* positions, size_t vertex_count, const Triangles& triangles,
+               const float* normals = nullptr);
 
 // Checks every index of `triangles` against vertex_count; the message names the
 // triangle and corner at fault. Shared with the OBJ sequence writer so that a

@@ -422,15 +422,26 @@ void write_cache(const std::string& path, CacheFormat format, const float* frame
     write_binary(path, format, frames, frame_count, vertex_count, in_stride, frame_rate);
     return;
   }
-  for (size_t f = 0; f < frame_count; ++f)
-    write_obj(obj_sequence_frame_path(path, static_cast<int64_t>(f)), frames + f * in_stride, vertex_count,
-              *triangles);
+  // Every frame is on disk, and every name known, before the first frame
+  // replaces its old version: a failure (disk full, memory) leaves the
+  // previous sequence whole.
+  std::vector<std::unique_ptr<AtomicFile>> files;
+  files.reserve(frame_count);
+  for (size_t f = 0; f < frame_count; ++f) {
+    files.push_back(std::make_unique<AtomicFile>(obj_sequence_frame_path(path, static_cast<int64_t>(f))));
+    write_obj(*files.back(), frames + f * in_stride, vertex_count, *triangles);
+    files.back()->finish();
+  }
   // A longer earlier bake to the same pattern would otherwise extend this one
   // when read back (frames are counted while files exist).
+  std::vector<std::string> stale;
   for (auto f = static_cast<int64_t>(frame_count); is_file(obj_sequence_frame_path(path, f)); ++f)
-    if (std::remove(obj_sequence_frame_path(path, f).c_str()) != 0)
-      fail(PLEAT_ERROR_IO, "cannot remove the stale frame " + in_quotes(obj_sequence_frame_path(path, f)) +
-                               ": " + std::strerror(errno));
+    stale.push_back(obj_sequence_frame_path(path, f));
+  for (auto& file : files) file->commit();
+  for (const std::string& name : stale)
+    if (std::remove(name.c_str()) != 0)
+      fail(PLEAT_ERROR_IO, "the new frames are written, but the stale frame after them, " + in_quotes(name) +
+                               ", cannot be removed: " + std::strerror(errno));
 }
 
 }  // namespace pleat

@@ -25,7 +25,9 @@
 //   reading reports 30 fps and start_time = first frame number / 30.
 //
 // Reading checks the whole file before writing to the caller's buffer, so on
-// any failure that buffer is untouched. Writing is atomic per file (AtomicFile).
+// any failure that buffer is untouched. Writing is atomic per file (AtomicFile);
+// an OBJ sequence writes and syncs all its frames before renaming any, so a
+// failed write leaves the previous sequence whole.
 #include <cstddef>
 #include <cstdint>
 #include <string>
