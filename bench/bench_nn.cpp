@@ -14,6 +14,7 @@
 
 #include "bench_support.h"
 #include "core/topology.h"
+#include "nn/gemm.h"
 #include "nn/graph_attention.h"
 #include "nn/gru.h"
 #include "nn/mlp.h"
@@ -74,6 +75,34 @@ double sgemm_gflops(Index m, Index k, Index n, std::mt19937& rng) {
   return gf;
 }
 
+// The inference GEMM (nn/gemm.h) on each kernel against OpenBLAS on the same
+// operands, single-threaded (as each of the runtime's tasks calls it): the
+// per-task shapes of the attention projection, a GRU step and the logits.
+void compare_gemm_kernels(std::mt19937& rng) {
+  std::printf("inference GEMM, one thread, median us per call (ratio: OpenBLAS time / kernel time)\n");
+  std::printf("  %-16s %10s %10s %10s %8s %8s\n", "m x k x n", "OpenBLAS", "baseline", "avx2", "ratio b",
+              "ratio a");
+  const GemmKernel initial = gemm_kernel();
+  pleat::SingleThreadedBlas one_blas_thread;
+  for (auto [m, k, n] : {std::tuple<Index, Index, Index>{512, 64, 264},
+                         {512, 33, 264},
+                         {512, 256, 72},
+                         {8, 384, 1152},
+                         {512, 64, 31}}) {
+    const MatrixRM a = random_matrix(m, k, rng), b = random_matrix(k, n, rng);
+    MatrixRM c(m, n);
+    const double blas = pleat_bench::median_seconds([&] { c.noalias() = a * b; }, g_reps);
+    double t[2] = {NAN, NAN};
+    for (GemmKernel kernel : {GemmKernel::baseline, GemmKernel::avx2})
+      if (set_gemm_kernel(kernel))
+        t[kernel == GemmKernel::avx2] = pleat_bench::median_seconds([&] { gemm(a, b, c); }, g_reps);
+    std::printf("  %4ldx%4ldx%5ld %10.1f %10.1f %10.1f %8.2f %8.2f\n", long(m), long(k), long(n), blas * 1e6,
+                t[0] * 1e6, t[1] * 1e6, blas / t[0], blas / t[1]);
+  }
+  set_gemm_kernel(initial);
+  std::printf("\n");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -93,16 +122,16 @@ int main(int argc, char** argv) {
        {std::tuple<Index, Index, Index>{4096, 128, 128}, {4096, 64, 72}, {16384, 128, 128}, {4096, 256, 256}})
     peak = std::max(peak, sgemm_gflops(m, k, n, rng));
   std::printf("  peak used below: %.1f GFLOP/s\n\n", peak);
+  compare_gemm_kernels(rng);
 
   const int joints = 24;
-  // Three ways to run a layer on two cores: serial kernel with OpenBLAS's
-  // own 2 threads for the GEMM; everything on one thread; our 2-thread pool
-  // over row blocks with OpenBLAS pinned to 1 thread (bit-identical results).
+  // A layer on one thread, and on our 2-thread pool over row blocks
+  // (bit-identical results); gemm: its projection alone (nn::gemm, one thread).
   ThreadPool pool(2);
   std::printf(
       "graph attention layer, median us per call (FLOPs: GEMM 2*N*in*(H*d'+2H) + aggregation 2*E*H*d')\n");
-  std::printf("  %-32s %6s %7s %9s %9s %9s %9s %8s %6s\n", "layer", "N", "E", "blas2", "1thread", "pool2",
-              "gemm(b2)", "GFLOP/s", "%peak");
+  std::printf("  %-32s %6s %7s %9s %9s %9s %8s %6s\n", "layer", "N", "E", "1thread", "pool2", "gemm",
+              "GFLOP/s", "%peak");
   std::vector<int> sides = {32, 64, 128};  // ~1k, 4k, 16k vertices
   if (quick) sides.pop_back();
   for (int side : sides) {
@@ -128,24 +157,18 @@ int main(int argc, char** argv) {
       MatrixRM out(n, layer.out_width());
       GraphAttentionWorkspace ws;
       ws.reserve(layer, graph);
-      const double t_blas2 =
-          pleat_bench::median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
       MatrixRM z(n, layer.projected_width());
-      const double t_gemm = pleat_bench::median_seconds([&] { z.noalias() = v * layer.folded; }, g_reps);
-      double t_one, t_pool;
-      {
-        SingleThreadedBlas one;
-        t_one =
-            pleat_bench::median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
-        t_pool = pleat_bench::median_seconds(
-            [&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); }, g_reps);
-      }
+      const double t_gemm = pleat_bench::median_seconds([&] { gemm(v, layer.folded, z); }, g_reps);
+      const double t_one =
+          pleat_bench::median_seconds([&] { graph_attention_forward(layer, graph, v, out, ws); }, g_reps);
+      const double t_pool = pleat_bench::median_seconds(
+          [&] { graph_attention_forward(layer, graph, v, out, ws, nullptr, &pool); }, g_reps);
       const double flops = 2.0 * n * double(c.in) * double(layer.projected_width()) +
                            2.0 * double(graph.edge_count()) * double(layer.weight.cols());
-      const double best = std::min({t_blas2, t_one, t_pool});
-      std::printf("  %-32s %6d %7ld %9.1f %9.1f %9.1f %9.1f %8.1f %5.1f%%\n", c.label, n,
-                  long(graph.edge_count()), t_blas2 * 1e6, t_one * 1e6, t_pool * 1e6, t_gemm * 1e6,
-                  flops / best * 1e-9, 100.0 * flops / best * 1e-9 / peak);
+      const double best = std::min(t_one, t_pool);
+      std::printf("  %-32s %6d %7ld %9.1f %9.1f %9.1f %8.1f %5.1f%%\n", c.label, n, long(graph.edge_count()),
+                  t_one * 1e6, t_pool * 1e6, t_gemm * 1e6, flops / best * 1e-9,
+                  100.0 * flops / best * 1e-9 / peak);
     }
   }
 
@@ -178,21 +201,15 @@ int main(int argc, char** argv) {
           },
           g_reps);
     };
-    std::printf("\nper-frame FlexiGAT stacks, N=%d, us:          blas2   1thread     pool2\n", n);
+    std::printf("\nper-frame FlexiGAT stacks, N=%d, us:          1thread     pool2\n", n);
     for (int which = 0; which < 2; ++which) {
       const std::vector<Index> widths =
           which == 0 ? std::vector<Index>{64, 32, 3} : std::vector<Index>{64, 64, 32, 32, 3};
       const Index in = which == 0 ? 128 : 6 + joints;
-      const double a = stack(widths, in, nullptr);
-      double b, c;
-      {
-        SingleThreadedBlas one;
-        b = stack(widths, in, nullptr);
-        c = stack(widths, in, &pool);
-      }
-      std::printf("  %-40s %9.1f %9.1f %9.1f\n",
-                  which == 0 ? "blend shapes [64,32,3] on 128" : "refinement [64,64,32,32,3] on 6+S", a * 1e6,
-                  b * 1e6, c * 1e6);
+      const double one = stack(widths, in, nullptr), two = stack(widths, in, &pool);
+      std::printf("  %-40s %9.1f %9.1f\n",
+                  which == 0 ? "blend shapes [64,32,3] on 128" : "refinement [64,64,32,32,3] on 6+S",
+                  one * 1e6, two * 1e6);
     }
   }
 
