@@ -251,6 +251,16 @@ TEST_F(PointCache, RejectsBrokenMdd) {
   expect_error(read("inf.mdd"), PLEAT_ERROR_FORMAT, "frame 1 vertex 0");
 }
 
+// No frames: nothing in the file bounds the point count, so reading must not
+// size anything by it (found by fuzz_point_cache: 2^31 - 1 points made 24 GB
+// of buffers for a 9-byte file).
+TEST_F(PointCache, AnEmptyCacheOfManyPointsAllocatesNothing) {
+  write_bytes(path("empty.mdd"), mdd_bytes(0, INT32_MAX, {}, {}));
+  const CacheHeader h = read_cache(path("empty.mdd"), CacheFormat::mdd, nullptr, 0, 0);
+  EXPECT_EQ(h.frame_count, 0);
+  EXPECT_EQ(h.vertex_count, INT32_MAX);
+}
+
 TEST_F(PointCache, FailedReadsLeaveTheBufferUntouched) {
   std::vector<float> v = {1, 2, 3, 4, 5, 6, 7, 8, std::nanf("")};
   write_bytes(path("nan.pc2"), pc2_bytes(1, 0, 1, 3, v));

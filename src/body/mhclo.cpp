@@ -1,6 +1,8 @@
 #include "body/mhclo.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 
@@ -9,6 +11,8 @@
 
 namespace pleat {
 namespace {
+
+constexpr int32_t kMaxDeletedRange = 1 << 20;
 
 [[noreturn]] void bad(const std::string& path, int64_t line, const std::string& what) {
   fail(PLEAT_ERROR_FORMAT, path + ":" + std::to_string(line) + ": " + what);
@@ -56,14 +60,20 @@ ClothesBinding read_mhclo(const std::string& path) {
       std::vector<double> values;
       std::istringstream all(line);
       for (double x; all >> x;) values.push_back(x);
+      for (double v : values)
+        if (!std::isfinite(v)) bad(path, number, "a number is not finite");
+      const auto vertex = [&](double v) {
+        if (!(v >= 0.0 && v <= double(INT32_MAX) && v == std::floor(v)))
+          bad(path, number, "vertex index " + std::to_string(v) + " is not a vertex index");
+        return static_cast<int32_t>(v);
+      };
       ClothesBinding::Reference r;
       if (values.size() == 1) {
-        r.vertex = {static_cast<int32_t>(values[0]), static_cast<int32_t>(values[0]),
-                    static_cast<int32_t>(values[0])};
+        r.vertex = {vertex(values[0]), vertex(values[0]), vertex(values[0])};
         r.weight = {1.0, 0.0, 0.0};
       } else if (values.size() == 9) {
         for (int k = 0; k < 3; ++k) {
-          r.vertex[static_cast<size_t>(k)] = static_cast<int32_t>(values[static_cast<size_t>(k)]);
+          r.vertex[static_cast<size_t>(k)] = vertex(values[static_cast<size_t>(k)]);
           r.weight[static_cast<size_t>(k)] = values[static_cast<size_t>(3 + k)];
           r.offset[k] = values[static_cast<size_t>(6 + k)];
         }
@@ -72,18 +82,28 @@ ClothesBinding read_mhclo(const std::string& path) {
             "expected 'i' or 'i0 i1 i2 w0 w1 w2 dx dy dz', got " + std::to_string(values.size()) +
                 " numbers");
       }
-      for (double v : values)
-        if (!std::isfinite(v)) bad(path, number, "a number is not finite");
       b.vertices.push_back(r);
     } else {  // delete_verts: numbers and "a - b" ranges
       std::istringstream all(line);
       std::vector<std::string> tokens;
       for (std::string t; all >> t;) tokens.push_back(t);
+      const auto vertex = [&](const std::string& token) {
+        int32_t v = -1;
+        const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), v);
+        if (error != std::errc() || end != token.data() + token.size() || v < 0)
+          bad(path, number, "'" + token + "' is not a vertex index");
+        return v;
+      };
       for (size_t i = 0; i < tokens.size(); ++i) {
         if (tokens[i] == "-") bad(path, number, "a range without a start");
-        const int32_t first = std::stoi(tokens[i]);
-        if (i + 2 < tokens.size() + 0 && tokens[i + 1] == "-") {
-          const int32_t last = std::stoi(tokens[i + 2]);
+        const int32_t first = vertex(tokens[i]);
+        if (i + 2 < tokens.size() && tokens[i + 1] == "-") {
+          const int32_t last = vertex(tokens[i + 2]);
+          // MakeHuman's base mesh has 19,158 vertices (with helpers); a longer
+          // range is a damaged file, not a reason to allocate gigabytes.
+          if (last < first || last - first > kMaxDeletedRange)
+            bad(path, number,
+                "range " + tokens[i] + " - " + tokens[i + 2] + " is empty or longer than any base mesh");
           for (int32_t v = first; v <= last; ++v) b.deleted_base_vertices.push_back(v);
           i += 2;
         } else {

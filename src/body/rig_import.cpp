@@ -365,15 +365,12 @@ ImportedRig import_rig(const std::string& path, const RigImportOptions& options)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": scale must be positive and finite");
   if (!(options.frame_rate >= 0.0) || !std::isfinite(options.frame_rate))
     fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": frame_rate must be >= 0 (0 = the key rate)");
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe || std::filesystem::is_directory(path)) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
-  }
+  check_assimp_input(path);
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                                     aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
   if (!scene || !scene->mRootNode)
     fail(PLEAT_ERROR_FORMAT, path + ": cannot read the file: " + importer.GetErrorString());
 

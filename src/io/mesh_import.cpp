@@ -4,8 +4,6 @@
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
-#include <filesystem>
-#include <fstream>
 #include <vector>
 
 #include "core/error.h"
@@ -41,14 +39,14 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 }  // namespace
 
 ImportedMesh import_mesh(const std::string& path) {
-  std::ifstream probe(path, std::ios::binary);
-  if (!probe) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
-  if (std::filesystem::is_directory(path)) fail(PLEAT_ERROR_IO, path + ": is a directory");
+  check_assimp_input(path);
 
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
+  // ValidateDataStructure: assimp checks every mesh, face and node index of
+  // the scene it built from a damaged file before we walk it.
+  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                                                     aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
   if (!scene || !scene->mRootNode)
     fail(PLEAT_ERROR_FORMAT, path + ": cannot read the mesh: " + importer.GetErrorString());
 
@@ -61,6 +59,9 @@ ImportedMesh import_mesh(const std::string& path) {
   mesh.vertices =
       Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
       mesh.unit_scale;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
+    if (!mesh.vertices.row(v).allFinite())
+      fail(PLEAT_ERROR_FORMAT, path + ": vertex " + std::to_string(v) + " is not finite (in metres)");
   mesh.triangles =
       Eigen::Map<Triangles>(c.indices.data(), static_cast<Eigen::Index>(c.indices.size() / 3), 3);
   return mesh;

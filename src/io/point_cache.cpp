@@ -149,7 +149,9 @@ class BinaryReader : public FrameReader {
       read_pc2_header(size);
     else
       read_mdd_header(size);
-    bytes_.resize(static_cast<size_t>(header_.vertex_count * kPointBytes));
+    // One frame's bytes; a cache of no frames holds no data to bound the
+    // point count with, so it gets no buffer.
+    if (header_.frame_count > 0) bytes_.resize(static_cast<size_t>(header_.vertex_count * kPointBytes));
   }
 
   void read_frame(int64_t f, float* dst) override {
@@ -382,6 +384,7 @@ CacheHeader read_cache(const std::string& path, CacheFormat format, float* out, 
     fail(PLEAT_ERROR_BUFFER_TOO_SMALL, in_quotes(path) + " needs " + std::to_string(needed) +
                                            " floats, the buffer holds " + std::to_string(capacity_floats));
   if (frames > 0 && !out) fail(PLEAT_ERROR_INVALID_ARGUMENT, "output buffer is NULL");
+  if (frames == 0) return header;  // no data bounds the point count of an empty cache: allocate nothing
   std::vector<float> scratch(frame_floats);
   for (size_t f = 0; f < frames; ++f) reader->read_frame(static_cast<int64_t>(f), scratch.data());
   for (size_t f = 0; f < frames; ++f) reader->read_frame(static_cast<int64_t>(f), out + f * out_stride);
