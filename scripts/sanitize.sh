@@ -1,26 +1,37 @@
 #!/usr/bin/env bash
-# Builds pleat with AddressSanitizer + UndefinedBehaviorSanitizer into
-# build-asan/ and runs the tests there. Slower than a Release build; run it
-# whole before landing changes to parsers, the C boundary or the solvers.
+# Builds pleat with clang, AddressSanitizer + UndefinedBehaviorSanitizer and
+# libFuzzer's coverage instrumentation into build-asan/ and runs the tests
+# there. Slower than a Release build; run it whole before landing changes to
+# parsers, the C boundary or the solvers.
 #
-#   scripts/sanitize.sh                  every test
-#   scripts/sanitize.sh test_a test_b    only these test programs (CI runs the
-#                                        file-loader fuzz tests this way)
+#   scripts/sanitize.sh                  every test, and each fuzz target for a few seconds
+#   scripts/sanitize.sh test_a test_b    only these test programs
+#   scripts/sanitize.sh fuzz_targets     every fuzz target, a few seconds each
+#   scripts/sanitize.sh --build-only     builds everything, runs nothing (scripts/fuzz.sh)
+# CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection fuzz_targets`.
 # The trainer is left out: libtorch itself is not built with the sanitizers.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
+build_only=0
+if [ "${1:-}" = "--build-only" ]; then
+  build_only=1
+  shift
+fi
 # -O1 and line tables only: enough for ASan's stack traces, and CI builds
 # this tree from scratch on every run.
-cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPLEAT_SANITIZE=ON \
+CC=clang CXX=clang++ cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DPLEAT_SANITIZE=ON -DPLEAT_FUZZ=ON \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
   -DPLEAT_BUILD_BENCH=OFF -DPLEAT_BUILD_TRAINING=OFF >/dev/null
 cmake --build "$root/build-asan" -j "$(nproc)" ${1:+--target "$@"}
+[ $build_only -eq 1 ] && exit 0
 cd "$root/build-asan"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 if [ $# -gt 0 ]; then
-  ctest --output-on-failure -j "$(nproc)" -R "^($(IFS='|'; echo "$*"))\$"
+  tests=("${@/#fuzz_targets/fuzz_.*}")
+  ctest --output-on-failure -j "$(nproc)" -R "^($(IFS='|'; echo "${tests[*]}"))\$"
 else
   ctest --output-on-failure -j "$(nproc)"
 fi
