@@ -1,0 +1,135 @@
+#include "trainer_config.h"
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+#include "io/sequence.h"
+
+namespace pleat::training {
+namespace {
+
+using Json = nlohmann::json;
+
+[[noreturn]] void bad_config(const std::string& path, const std::string& what) {
+  fail(PLEAT_ERROR_FORMAT, "training config '" + path + "': " + what);
+}
+
+std::vector<std::string> folders(const Json& j, const std::filesystem::path& base) {
+  std::vector<std::string> out;
+  for (const Json& d : j) {
+    std::filesystem::path p = d.get<std::string>();
+    out.push_back((p.is_relative() ? base / p : p).string());
+  }
+  return out;
+}
+
+nn::AttentionVariant variant_named(const std::string& name, const std::string& path) {
+  if (name == "flexigat") return nn::AttentionVariant::flexigat;
+  if (name == "gat") return nn::AttentionVariant::gat;
+  if (name == "lgat") return nn::AttentionVariant::lgat;
+  bad_config(path, "model.variant must be flexigat, gat or lgat, got '" + name + "'");
+}
+
+}  // namespace
+
+TrainerConfig read_trainer_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(PLEAT_ERROR_IO, "training config '" + path + "': cannot open the file");
+  Json j;
+  try {
+    j = Json::parse(in);
+  } catch (const Json::exception& e) {
+    bad_config(path, std::string("not valid JSON: ") + e.what());
+  }
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  TrainerConfig c;
+  c.source = path;
+  try {
+    if (j.contains("dataset") || j.contains("dataset_name")) {
+      // A data set written by pleat datagen: its splits.json names the folders.
+      if (j.contains("train") || j.contains("validation") || j.contains("test") ||
+          (j.contains("dataset") && j.contains("dataset_name")))
+        bad_config(path, "give either \"dataset\" or \"dataset_name\", or the train/validation/test lists");
+      // One data set, or a list whose splits are joined (e.g. a set of extra
+      // training clips next to the set that holds validation and test).
+      const Json& named = j.contains("dataset") ? j["dataset"] : j["dataset_name"];
+      for (const Json& name : named.is_array() ? named : Json::array({named})) {
+        std::filesystem::path root;
+        if (j.contains("dataset")) {
+          root = name.get<std::string>();
+          if (root.is_relative()) root = base / root;
+        } else {
+          root = default_dataset_dir(name.get<std::string>());
+        }
+        std::ifstream splits_file(root / "splits.json");
+        if (!splits_file)
+          fail(PLEAT_ERROR_IO, "training config '" + path + "': no data set at '" + root.string() +
+                                   "' (splits.json is missing; generate it with pleat datagen)");
+        const Json splits = Json::parse(splits_file);
+        const std::pair<const char*, std::vector<std::string>*> lists[] = {
+            {"train", &c.train}, {"validation", &c.validation}, {"test", &c.test}};
+        for (const auto& [split, list] : lists) {
+          const std::vector<std::string> more = folders(splits.at(split), root);
+          list->insert(list->end(), more.begin(), more.end());
+        }
+        if (splits.contains("twins"))
+          for (const auto& [sequence, twin] : splits["twins"].items())
+            c.twins[(root / sequence).string()] = (root / twin.get<std::string>()).string();
+      }
+    } else {
+      c.train = folders(j.at("train"), base);
+      if (j.contains("validation")) c.validation = folders(j["validation"], base);
+      if (j.contains("test")) c.test = folders(j["test"], base);
+    }
+    const std::filesystem::path schedule = j.at("schedule").get<std::string>();
+    c.schedule_source = (schedule.is_relative() ? base / schedule : schedule).string();
+    c.schedule = read_schedule(c.schedule_source);
+    const std::filesystem::path output = j.at("output").get<std::string>();
+    c.output = (output.is_relative() ? base / output : output).string();
+    c.epochs = j.value("epochs", c.epochs);
+    c.batch_frames = j.value("batch_frames", c.batch_frames);
+    c.sequences_per_batch = j.value("sequences_per_batch", c.sequences_per_batch);
+    c.learning_rate = j.value("learning_rate", c.learning_rate);
+    c.min_learning_rate = j.value("min_learning_rate", c.min_learning_rate);
+    c.seed = j.value("seed", c.seed);
+    c.frequency_division = j.value("frequency_division", c.frequency_division);
+    c.progress = j.value("progress", c.progress);
+    c.plot = j.value("plot", c.plot);
+    if (j.contains("initial_model")) {
+      if (j.contains("model"))
+        bad_config(path,
+                   "initial_model and model exclude each other: a model file carries its own "
+                   "architecture and settings");
+      const std::filesystem::path initial = j["initial_model"].get<std::string>();
+      c.initial_model = (initial.is_relative() ? base / initial : initial).string();
+    }
+    if (j.contains("model")) {
+      const Json& m = j["model"];
+      c.model.variant = variant_named(m.value("variant", std::string("flexigat")), path);
+      c.model.window_frames = m.value("window_frames", c.model.window_frames);
+      c.model.default_top_k = m.value("default_top_k", c.model.default_top_k);
+      c.model.code_width = m.value("code_width", c.model.code_width);
+      c.model.heads = m.value("heads", c.model.heads);
+      c.model.gru_layers = m.value("gru_layers", c.model.gru_layers);
+      c.model.body_widths = m.value("body_widths", c.model.body_widths);
+      c.model.body_vertex_stride = m.value("body_vertex_stride", c.model.body_vertex_stride);
+      c.model.garment_widths = m.value("garment_widths", c.model.garment_widths);
+      c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
+      c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);
+      c.model.offset_filter_length = m.value("offset_filter_length", c.model.offset_filter_length);
+      c.model.skinning_prior_radius = m.value("skinning_prior_radius", c.model.skinning_prior_radius);
+      c.model.skinning_prior_floor = m.value("skinning_prior_floor", c.model.skinning_prior_floor);
+    }
+  } catch (const Json::exception& e) {
+    bad_config(path, e.what());
+  }
+  if (c.epochs < 1 || c.batch_frames < 1) bad_config(path, "epochs and batch_frames must be >= 1");
+  if (c.sequences_per_batch < 0) bad_config(path, "sequences_per_batch must be >= 0");
+  c.model.seed = c.seed;
+  return c;
+}
+
+}  // namespace pleat::training
