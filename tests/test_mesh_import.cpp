@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <assimp/Exporter.hpp>
+#include <cstring>
 #include <fstream>
+#include <functional>
 
 #include "body/rig_import.h"
 #include "core/error.h"
@@ -132,4 +134,57 @@ TEST(MeshImport, BinaryGltfLengthsBeyondTheFileAreRefused) {
   }
   // The same check guards rigged characters.
   EXPECT_THROW(pleat::import_rig(path), Error);
+}
+
+namespace {
+
+// Binary FBX 7.4 of `depth` records nested in one another (name "A", no
+// properties), each list closed by a 13-byte null record.
+std::string nested_binary_fbx(int depth) {
+  std::string out("Kaydara FBX Binary  \0\x1a\0", 23);
+  const uint32_t version = 7400;
+  out.append(reinterpret_cast<const char*>(&version), 4);
+  std::function<void(int)> record = [&](int level) {
+    const size_t start = out.size();
+    out.append(12, '\0');
+    out += '\1';
+    out += 'A';
+    if (level + 1 < depth) record(level + 1);
+    out.append(13, '\0');
+    const auto end = static_cast<uint32_t>(out.size());
+    std::memcpy(&out[start], &end, 4);
+  };
+  record(0);
+  out.append(13, '\0');
+  return out;
+}
+
+}  // namespace
+
+// assimp recurses once per FBX scope; 200,000 levels in 1 MB overflow the
+// stack of any process. Such files are refused first; ordinary nesting passes
+// the check (and fails later for lack of geometry).
+TEST(MeshImport, FbxNestedBeyondAnyRealSceneIsRefused) {
+  const std::string dir = pleat_test::temp_dir("import_deep_fbx");
+  std::ofstream(dir + "/deep_ascii.fbx") << "; FBX 7.5.0 project file\n" << std::string(5000, '{');
+  std::ofstream(dir + "/deep_binary.fbx", std::ios::binary) << nested_binary_fbx(200);
+  std::ofstream(dir + "/shallow_binary.fbx", std::ios::binary) << nested_binary_fbx(20);
+  std::ofstream(dir + "/braces_in_strings.fbx")
+      << "; FBX 7.5.0 project file\nA: \"" << std::string(5000, '{') << "\" ; {{{{\n";
+  for (const char* name : {"/deep_ascii.fbx", "/deep_binary.fbx"}) {
+    try {
+      import_mesh(dir + name);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("nested more than 64 deep"), std::string::npos) << e.what();
+    }
+  }
+  for (const char* name : {"/shallow_binary.fbx", "/braces_in_strings.fbx"}) {
+    try {
+      import_mesh(dir + name);
+      ADD_FAILURE() << name << " loaded";
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).find("nested more than"), std::string::npos) << e.what();
+    }
+  }
 }

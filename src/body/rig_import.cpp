@@ -13,7 +13,7 @@
 #include <set>
 
 #include "core/error.h"
-#include "io/assimp_units.h"
+#include "io/assimp_support.h"
 
 namespace pleat {
 namespace {

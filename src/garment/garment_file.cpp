@@ -1,6 +1,7 @@
 #include "garment/garment_file.h"
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -87,6 +88,13 @@ bool is_garment_file(const std::string& path) {
 namespace {
 
 // The rest mesh and the map back to the source file's vertices.
+// The verifier checks a vector's 4-byte length prefix, not that 8-byte
+// elements are 8-aligned, so a crafted file can misalign doubles: read them
+// byte-wise (found by fuzz_garment_file under UBSan).
+void copy_doubles(const flatbuffers::Vector<double>& from, double* to) {
+  std::memcpy(to, from.Data(), from.size() * sizeof(double));
+}
+
 void read_mesh(const fb::Garment* root, const std::string& source, Garment* g) {
   g->source = root->source() ? root->source()->str() : source;
   const auto& vertices = required(root->vertices(), source, "vertices");
@@ -98,7 +106,8 @@ void read_mesh(const fb::Garment* root, const std::string& source, Garment* g) {
     bad(source, "field 'triangles' has " + std::to_string(triangles.size()) +
                     " values, not a positive multiple of 3");
   const auto n = static_cast<Eigen::Index>(vertices.size() / 3);
-  g->rest.vertices = Eigen::Map<const Points3d>(vertices.data(), n, 3);
+  g->rest.vertices.resize(n, 3);
+  copy_doubles(vertices, g->rest.vertices.data());
   if (!g->rest.vertices.allFinite() || g->rest.vertices.cwiseAbs().maxCoeff() > kMaxCoordinate)
     bad(source, "field 'vertices' holds a non-finite or huge value");
   g->rest.triangles =
@@ -166,7 +175,8 @@ BandBasis<float> read_bands(const fb::Bands* bands, Eigen::Index n, const std::s
   expect_size(vectors.size(), static_cast<size_t>(n) * static_cast<size_t>(bb.mid_count), source,
               "bands.vectors");
   expect_size(sqrt_degree.size(), static_cast<size_t>(n), source, "bands.sqrt_degree");
-  bb.eigenvalues = Eigen::Map<const Eigen::VectorXd>(eigenvalues.data(), eigenvalues.size());
+  bb.eigenvalues.resize(eigenvalues.size());
+  copy_doubles(eigenvalues, bb.eigenvalues.data());
   bb.vectors = Eigen::Map<const Eigen::MatrixXf>(vectors.data(), n, bb.mid_count);
   bb.sqrt_degree = Eigen::Map<const Eigen::VectorXf>(sqrt_degree.data(), n);
   if (!bb.vectors.allFinite() || !bb.sqrt_degree.allFinite() || !bb.eigenvalues.allFinite())

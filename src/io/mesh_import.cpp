@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "io/assimp_units.h"
+#include "io/assimp_support.h"
 
 namespace pleat {
 namespace {

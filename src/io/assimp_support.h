@@ -11,7 +11,8 @@ namespace pleat {
 // Throws PLEAT_ERROR_IO unless `path` is a readable file, and
 // PLEAT_ERROR_FORMAT for what assimp 5.2 trusts without checking: a binary
 // glTF whose header declares more bytes than the file holds (assimp would
-// allocate them first).
+// allocate them first), and an FBX nested more than 64 scopes deep (assimp
+// recurses once per scope and would overflow the stack).
 void check_assimp_input(const std::string& path);
 
 // Metres per file unit: FBX stores centimetres per unit ("UnitScaleFactor");
