@@ -6,9 +6,9 @@
 #
 #   scripts/sanitize.sh                  every test, and each fuzz target for a few seconds
 #   scripts/sanitize.sh test_a test_b    only these test programs
-#   scripts/sanitize.sh fuzz_targets     every fuzz target, a few seconds each
+#   scripts/sanitize.sh fuzz_targets     every fuzz target, 3,000 inputs each
 #   scripts/sanitize.sh --build-only     builds everything, runs nothing (scripts/fuzz.sh)
-# CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection fuzz_targets`.
+# CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection test_capi_stress fuzz_targets`.
 # The trainer is left out: libtorch itself is not built with the sanitizers.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test. This is what CI runs (.ci/run).
 # After the Release tests, the sanitizer build (build-asan/: clang, ASan +
-# UBSan) runs the model-file mutation test, the fault injection and every
-# libFuzzer target for a few seconds; it builds only those targets.
+# UBSan) runs the model-file mutation test, the fault injection, the stress
+# catalogue and every libFuzzer target briefly; it builds only those targets.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/build.sh"
 cd "$root/build"
 ctest --output-on-failure -j "$(nproc)"
-"$root/scripts/sanitize.sh" test_model_fuzz test_capi_fault_injection fuzz_targets
+"$root/scripts/sanitize.sh" test_model_fuzz test_capi_fault_injection test_capi_stress fuzz_targets

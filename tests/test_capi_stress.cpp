@@ -1,0 +1,212 @@
+// The stress catalogue (docs/reliability.md): pathological garments and poses
+// through the C API. Every case either fails with a specific status and a
+// message, or evaluates to finite positions within kBound of the skinning
+// stage's for the same frames (the offsets the network adds stay bounded
+// because its hidden layers saturate; nothing may run away).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "capi/pleat.h"
+#include "support/capi_chain.h"
+#include "support/capi_support.h"
+
+using namespace pleat_test::chain;
+
+namespace {
+
+constexpr float kBound = 0.5f;  // metres between the full and the skinning stage
+
+// Frames that bend every joint through large angles, the root turning a full
+// circle over the sequence.
+Poses swinging(size_t frames) {
+  Poses p;
+  for (size_t f = 0; f < frames; ++f) {
+    const float t = static_cast<float>(f) / static_cast<float>(frames);
+    const float turn = 3.14159265f * t;  // half-angle: a full turn over the sequence
+    p.rotations.insert(p.rotations.end(), {0.0f, std::sin(turn), 0.0f, std::cos(turn)});
+    for (uint32_t j = 1; j < kJoints; ++j) {
+      const float a = 1.2f * std::sin(6.0f * t + static_cast<float>(j));
+      p.rotations.insert(p.rotations.end(), {std::sin(a), 0.0f, 0.0f, std::cos(a)});
+    }
+    for (int k = 0; k < 3; ++k) p.roots.push_back(kJointPositions[k] + (k == 0 ? 0.05f * f : 0.0f));
+  }
+  return p;
+}
+
+// Evaluates every frame at the skinning and the full stage and checks the
+// outputs: finite, and the full stage within kBound of skinning.
+void expect_finite_and_bounded(pleat_instance* instance, const Poses& poses, const std::string& context) {
+  const size_t frames = poses.roots.size() / 3;
+  const std::vector<float> skinned = evaluate(instance, poses, 0, frames, PLEAT_STAGE_SKINNING);
+  const std::vector<float> full = evaluate(instance, poses, 0, frames, PLEAT_STAGE_FULL);
+  ASSERT_EQ(skinned.size(), full.size());
+  float worst = 0.0f;
+  for (size_t i = 0; i < full.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(skinned[i]) && std::isfinite(full[i])) << context << ": value " << i;
+    worst = std::max(worst, std::abs(full[i] - skinned[i]));
+  }
+  EXPECT_LE(worst, kBound) << context;
+}
+
+struct GarmentCase {
+  std::string name;
+  pleat_test::SimpleMesh mesh;
+  std::set<pleat_status> refusals;  // statuses it may be refused with; empty: must load
+};
+
+pleat_test::SimpleMesh scaled(pleat_test::SimpleMesh m, float scale, Eigen::Vector3f at) {
+  for (size_t v = 0; v < m.vertex_count(); ++v)
+    for (int k = 0; k < 3; ++k) m.positions[v * 3 + k] = at[k] + scale * (m.positions[v * 3 + k] - at[k]);
+  return m;
+}
+
+std::vector<GarmentCase> garment_cases() {
+  const pleat_test::SimpleMesh base = garment_mesh();
+  std::vector<GarmentCase> cases;
+  auto with = [&](std::string name, std::function<void(pleat_test::SimpleMesh&)> change,
+                  std::set<pleat_status> refusals = {}) {
+    pleat_test::SimpleMesh m = base;
+    change(m);
+    cases.push_back({std::move(name), std::move(m), std::move(refusals)});
+  };
+  with("zero-area faces",
+       [](pleat_test::SimpleMesh& m) {
+         m.triangles.insert(m.triangles.end(), {0, 1, 2});  // three collinear vertices of the first row
+         m.triangles.insert(m.triangles.end(), {3, 3, 4});  // a repeated corner
+       },
+       {PLEAT_ERROR_INVALID_MESH});
+  with("slivers", [](pleat_test::SimpleMesh& m) { m.positions[7 * 3 + 1] = m.positions[2 * 3 + 1] + 1e-6f; });
+  with("duplicate faces",
+       [](pleat_test::SimpleMesh& m) {
+         const auto t = m.triangles;
+         m.triangles.insert(m.triangles.end(), t.begin(), t.end());
+       },
+       {PLEAT_ERROR_INVALID_MESH});
+  with("coincident unwelded copy", [](pleat_test::SimpleMesh& m) { m = pleat_test::concat(m, m); });
+  with("non-manifold edge", [](pleat_test::SimpleMesh& m) {
+    const uint32_t apex = static_cast<uint32_t>(m.vertex_count());
+    m.positions.insert(m.positions.end(), {m.positions[0], m.positions[1], m.positions[2] + 0.1f});
+    m.triangles.insert(m.triangles.end(), {m.triangles[0], m.triangles[1], apex});
+  });
+  with("isolated vertex", [](pleat_test::SimpleMesh& m) {
+    m.positions.insert(m.positions.end(), {0, 2, 0});
+  });
+  with("one triangle",
+       [](pleat_test::SimpleMesh& m) {
+         m.positions.resize(9);
+         m.triangles = {0, 1, 2};
+         m.positions[7] += 0.1f;
+       },
+       {PLEAT_ERROR_INVALID_MESH});
+  const Eigen::Vector3f centre(0.0f, 1.05f, 0.15f);
+  cases.push_back({"0.1 mm garment (1e-4 m)", scaled(base, 1e-3f, centre), {PLEAT_ERROR_INVALID_MESH}});
+  cases.push_back({"10 km garment (1e4 m)", scaled(base, 1e5f, centre), {PLEAT_ERROR_INVALID_MESH}});
+  return cases;
+}
+
+TEST(CapiStress, PathologicalGarmentsAreRefusedOrStayBounded) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  const Poses poses = swinging(24);
+  for (const GarmentCase& c : garment_cases()) {
+    pleat_garment* raw = nullptr;
+    const pleat_status created =
+        pleat_garment_create(c.mesh.positions.data(), c.mesh.vertex_count(), c.mesh.triangles.data(),
+                             c.mesh.triangle_count(), nullptr, &raw);
+    pleat_test::GarmentPtr garment(raw);
+    std::printf("%-28s create %s", c.name.c_str(), pleat_status_name(created));
+    if (created != PLEAT_OK) std::printf(" (%s)\n", pleat_last_error());
+    if (created != PLEAT_OK) {
+      EXPECT_TRUE(c.refusals.count(created))
+          << c.name << ": " << pleat_status_name(created) << " " << pleat_last_error();
+      EXPECT_NE(std::string(pleat_last_error()), "") << c.name;
+      continue;
+    }
+    const pleat_status prepared = pleat_garment_prepare(garment.get(), nullptr);
+    std::printf(", prepare %s\n", pleat_status_name(prepared));
+    EXPECT_TRUE(prepared == PLEAT_OK || c.refusals.count(prepared))
+        << c.name << ": prepare " << pleat_status_name(prepared) << " " << pleat_last_error();
+    pleat_instance* instance = nullptr;
+    const pleat_status bound =
+        pleat_instance_create(model.get(), garment.get(), body.get(), nullptr, &instance);
+    InstancePtr owned(instance, pleat_instance_destroy);
+    if (bound != PLEAT_OK) {
+      EXPECT_TRUE(c.refusals.count(bound))
+          << c.name << ": bind " << pleat_status_name(bound) << " " << pleat_last_error();
+      continue;
+    }
+    expect_finite_and_bounded(instance, poses, c.name);
+  }
+}
+
+TEST(CapiStress, ExtremePosesAreRefusedOrStayBounded) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  const Poses reference = swinging(24);
+  const std::vector<float> expected = evaluate(instance.get(), reference, 0, 24, PLEAT_STAGE_FULL);
+
+  // q and -q are one rotation.
+  Poses negated = reference;
+  for (float& x : negated.rotations) x = -x;
+  const std::vector<float> got = evaluate(instance.get(), negated, 0, 24, PLEAT_STAGE_FULL);
+  for (size_t i = 0; i < got.size(); ++i) ASSERT_NEAR(got[i], expected[i], 1e-5f) << "-q, value " << i;
+
+  // Large frame-to-frame motion: a root that teleports 1 km and back, a
+  // joint that flips by nearly 360 degrees between frames, a root 50 km from
+  // the origin (the largest accepted is 100 km).
+  Poses teleport = reference;
+  for (size_t f = 8; f < 12; ++f) teleport.roots[f * 3] += 1000.0f;
+  expect_finite_and_bounded(instance.get(), teleport, "teleporting root");
+  Poses flip = reference;
+  for (size_t f = 0; f < 24; f += 2) {
+    float* q = &flip.rotations[(f * kJoints + 1) * 4];
+    q[0] = std::sin(3.1f), q[1] = 0.0f, q[2] = 0.0f, q[3] = std::cos(3.1f);  // 355 degrees
+  }
+  expect_finite_and_bounded(instance.get(), flip, "355-degree flips every other frame");
+  Poses far = reference;
+  for (size_t f = 0; f < 24; ++f) far.roots[f * 3 + 2] += 5e4f;
+  expect_finite_and_bounded(instance.get(), far, "root 50 km out");
+
+  // Values no pose has: refused, naming the frame, nothing written.
+  const size_t n = garment_mesh().vertex_count();
+  for (auto [what, value, rotation] : {std::tuple<const char*, float, bool>{"NaN rotation", NAN, true},
+                                       {"infinite rotation", INFINITY, true},
+                                       {"zero quaternion", 0.0f, true},
+                                       {"quaternion of norm 1000", 1e3f, true},
+                                       {"NaN root", NAN, false},
+                                       {"root 1,000 km out", 1e6f, false},
+                                       {"infinite root", -INFINITY, false}}) {
+    Poses bad = reference;
+    if (rotation) {
+      float* q = &bad.rotations[(5 * kJoints + 2) * 4];
+      if (value == 0.0f || value == 1e3f)
+        for (int k = 0; k < 4; ++k) q[k] *= value;
+      else
+        q[1] = value;
+    } else {
+      bad.roots[5 * 3 + 1] = value;
+    }
+    std::vector<float> out(24 * n * 3, 42.0f);
+    pleat_evaluate_outputs outputs{};
+    outputs.struct_size = sizeof outputs;
+    outputs.positions = {out.data(), 0};
+    const pleat_poses view = bad.view();
+    EXPECT_EQ(pleat_instance_evaluate(instance.get(), &view, 0, 24, nullptr, &outputs),
+              PLEAT_ERROR_INVALID_ARGUMENT)
+        << what;
+    EXPECT_NE(std::string(pleat_last_error()).find("frame 5"), std::string::npos)
+        << what << ": " << pleat_last_error();
+    for (float x : out) ASSERT_EQ(x, 42.0f) << what << ": written by a refused call";
+  }
+}
+
+}  // namespace
