@@ -8,27 +8,32 @@
 #   scripts/sanitize.sh test_a test_b    only these test programs
 #   scripts/sanitize.sh fuzz_targets     every fuzz target, 3,000 inputs each
 #   scripts/sanitize.sh --build-only     builds everything, runs nothing (scripts/fuzz.sh)
+#   scripts/sanitize.sh --thread test_a  ThreadSanitizer instead, in build-tsan/ (the
+#                                        threaded tests: test_capi_model, test_runtime_golden)
 # CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection test_capi_stress fuzz_targets`.
 # The trainer is left out: libtorch itself is not built with the sanitizers.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 "$root/scripts/setup.sh"
 build_only=0
-if [ "${1:-}" = "--build-only" ]; then
-  build_only=1
-  shift
-fi
-# -O1 and line tables only: enough for ASan's stack traces, and CI builds
-# this tree from scratch on every run.
-CC=clang CXX=clang++ cmake -S "$root" -B "$root/build-asan" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DPLEAT_SANITIZE=ON -DPLEAT_FUZZ=ON \
+tree=build-asan
+sanitizers=(-DPLEAT_SANITIZE=ON -DPLEAT_FUZZ=ON)
+case "${1:-}" in
+  --build-only) build_only=1; shift ;;
+  --thread) tree=build-tsan; sanitizers=(-DPLEAT_TSAN=ON); shift ;;
+esac
+# -O1 and line tables only: enough for the sanitizers' stack traces, and CI
+# builds this tree from scratch on every run.
+CC=clang CXX=clang++ cmake -S "$root" -B "$root/$tree" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  "${sanitizers[@]}" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
   -DPLEAT_BUILD_BENCH=OFF -DPLEAT_BUILD_TRAINING=OFF >/dev/null
-cmake --build "$root/build-asan" -j "$(nproc)" ${1:+--target "$@"}
+cmake --build "$root/$tree" -j "$(nproc)" ${1:+--target "$@"}
 [ $build_only -eq 1 ] && exit 0
-cd "$root/build-asan"
+cd "$root/$tree"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/tests/tsan.supp"
 if [ $# -gt 0 ]; then
   tests=("${@/#fuzz_targets/fuzz_.*}")
   ctest --output-on-failure -j "$(nproc)" -R "^($(IFS='|'; echo "${tests[*]}"))\$"
