@@ -210,3 +210,98 @@ TEST(CapiStress, ExtremePosesAreRefusedOrStayBounded) {
 }
 
 }  // namespace
+
+namespace {
+
+// Poses of `motion` frames [0, count) as pleat_evaluate wants them.
+void evaluate_motion_bounded(pleat_instance* instance, const pleat_motion* motion, size_t count,
+                             const std::string& context) {
+  pleat_instance_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(pleat_instance_get_info(instance, &info), PLEAT_OK);
+  std::vector<std::vector<float>> stages;
+  for (uint32_t stage : {PLEAT_STAGE_SKINNING, PLEAT_STAGE_FULL}) {
+    std::vector<float> positions(count * info.vertex_count * 3, NAN);
+    pleat_evaluate_options o{};
+    o.struct_size = sizeof o;
+    o.stage = stage;
+    pleat_evaluate_outputs out{};
+    out.struct_size = sizeof out;
+    out.positions = {positions.data(), 0};
+    ASSERT_EQ(pleat_instance_evaluate_motion(instance, motion, 0, count, &o, &out), PLEAT_OK)
+        << context << ": " << pleat_last_error();
+    stages.push_back(std::move(positions));
+  }
+  float worst = 0.0f;
+  for (size_t i = 0; i < stages[0].size(); ++i) {
+    ASSERT_TRUE(std::isfinite(stages[0][i]) && std::isfinite(stages[1][i])) << context << ": value " << i;
+    worst = std::max(worst, std::abs(stages[1][i] - stages[0][i]));
+  }
+  EXPECT_LE(worst, kBound) << context;
+}
+
+}  // namespace
+
+// The shipped dress model on the MakeHuman body with every macro slider at 0
+// (the ethnic ones, which must not all be 0, at 1), every one at 1, and
+// alternating: the body stays valid and the dress evaluates finite and
+// bounded through a walk.
+TEST(CapiStress, MakeHumanSlidersAtTheirLimitsTogether) {
+  pleat_body* raw_body = nullptr;
+  ASSERT_EQ(pleat_body_load((pleat_test::asset_dir() + "/body").c_str(), nullptr, &raw_body), PLEAT_OK)
+      << pleat_last_error();
+  BodyPtr body(raw_body, pleat_body_destroy);
+  pleat_model* raw_model = nullptr;
+  ASSERT_EQ(pleat_model_load((pleat_test::source_dir() + "/data/models/dress.pleat").c_str(), &raw_model),
+            PLEAT_OK)
+      << pleat_last_error();
+  ModelPtr model(raw_model, pleat_model_destroy);
+  pleat_garment_load_options go{};
+  go.struct_size = sizeof go;
+  go.unit_scale = 0.1;
+  pleat_garment* raw_garment = nullptr;
+  ASSERT_EQ(pleat_garment_load((pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj").c_str(),
+                               &go, &raw_garment),
+            PLEAT_OK)
+      << pleat_last_error();
+  pleat_test::GarmentPtr garment(raw_garment);
+  pleat_motion* raw_clip = nullptr;
+  ASSERT_EQ(
+      pleat_motion_load((pleat_test::source_dir() + "/tests/fixtures/motion/12_03_walk_121.bvh").c_str(),
+                        nullptr, &raw_clip),
+      PLEAT_OK);
+  std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)> clip(raw_clip, pleat_motion_destroy);
+
+  pleat_body_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(pleat_body_get_info(body.get(), &info), PLEAT_OK);
+  ASSERT_GT(info.shape_count, 5u);
+  // Every slider at 0 leaves no ethnicity to normalise: refused by name.
+  std::vector<double> zeros(info.shape_count, 0.0);
+  EXPECT_EQ(pleat_body_set_shape(body.get(), zeros.data(), zeros.size()), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("ethnic"), std::string::npos) << pleat_last_error();
+  const auto ethnic = [&](size_t i) {
+    const std::string name = pleat_body_shape_name(body.get(), static_cast<uint32_t>(i));
+    return name == "african" || name == "asian" || name == "caucasian";
+  };
+  for (int pattern = 0; pattern < 3; ++pattern) {
+    std::vector<double> shape(info.shape_count);
+    for (size_t i = 0; i < shape.size(); ++i)
+      shape[i] = pattern == 2 ? double(i % 2) : pattern == 1 || ethnic(i) ? 1.0 : 0.0;
+    const std::string context =
+        pattern == 2 ? "sliders alternating 0 and 1" : "every slider at " + std::to_string(pattern);
+    ASSERT_EQ(pleat_body_set_shape(body.get(), shape.data(), shape.size()), PLEAT_OK)
+        << context << ": " << pleat_last_error();
+    std::vector<float> rest(size_t(info.vertex_count) * 3);
+    ASSERT_EQ(pleat_body_get_rest(body.get(), rest.data(), rest.size(), nullptr, 0, nullptr, 0), PLEAT_OK);
+    for (float x : rest) ASSERT_TRUE(std::isfinite(x)) << context << ": body rest";
+
+    pleat_motion* m = nullptr;
+    ASSERT_EQ(pleat_motion_resample(clip.get(), 30.0, &m), PLEAT_OK) << pleat_last_error();
+    std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)> at30(m, pleat_motion_destroy);
+    ASSERT_EQ(pleat_motion_retarget(at30.get(), body.get(), nullptr, &m), PLEAT_OK) << pleat_last_error();
+    std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)> retargeted(m, pleat_motion_destroy);
+    InstancePtr instance = bind(model.get(), garment.get(), body.get());
+    evaluate_motion_bounded(instance.get(), retargeted.get(), 12, context);
+  }
+}
