@@ -15,6 +15,7 @@
 
 #include "body/body.h"
 #include "garment/garment.h"
+#include "nn/gemm.h"
 #include "runtime/binding.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"
@@ -416,27 +417,34 @@ void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1
   const Body body = chain_body();
   const auto garment = sheet();
   const Poses p = motion();
-  InstanceOptions options;
-  Instance instance(model, garment, body, options);
-  ASSERT_EQ(instance.top_k(), 2);
-  const int n = instance.vertex_count();
   const PoseSequence poses{p.rotations.data(), p.roots.data(), kFrames, kJoints, kFps};
-  for (Stage stage : {Stage::skinning, Stage::blend_shapes, Stage::refinement}) {
-    std::vector<float> got(size_t(kFrames) * n * 3);
-    EvaluateOutputs out;
-    out.positions = {got.data(), size_t(n) * 3};
-    instance.evaluate(poses, 0, kFrames, stage, out);
-    const std::vector<Mat> want = reference(*model, *garment, body, p, stage);
-    double largest = 0.0, moved = 0.0;
-    for (int f = 0; f < kFrames; ++f)
-      for (int v = 0; v < n; ++v)
-        for (int k = 0; k < 3; ++k) {
-          largest = std::max(largest, std::abs(got[(size_t(f) * n + v) * 3 + k] - want[f](v, k)));
-          moved = std::max(moved, std::abs(want[f](v, k) - garment->rest.vertices(v, k)));
-        }
-    EXPECT_LT(largest, 2e-6) << "stage " << int(stage);
-    EXPECT_GT(moved, 0.1) << "the motion moves the garment";
+  // Every GEMM kernel this CPU runs (nn/gemm.h) meets the same reference.
+  const nn::GemmKernel initial = nn::gemm_kernel();
+  for (nn::GemmKernel kernel : {nn::GemmKernel::baseline, nn::GemmKernel::avx2}) {
+    if (!nn::set_gemm_kernel(kernel)) continue;
+    SCOPED_TRACE(nn::gemm_kernel_name(kernel));
+    InstanceOptions options;
+    Instance instance(model, garment, body, options);
+    ASSERT_EQ(instance.top_k(), 2);
+    const int n = instance.vertex_count();
+    for (Stage stage : {Stage::skinning, Stage::blend_shapes, Stage::refinement}) {
+      std::vector<float> got(size_t(kFrames) * n * 3);
+      EvaluateOutputs out;
+      out.positions = {got.data(), size_t(n) * 3};
+      instance.evaluate(poses, 0, kFrames, stage, out);
+      const std::vector<Mat> want = reference(*model, *garment, body, p, stage);
+      double largest = 0.0, moved = 0.0;
+      for (int f = 0; f < kFrames; ++f)
+        for (int v = 0; v < n; ++v)
+          for (int k = 0; k < 3; ++k) {
+            largest = std::max(largest, std::abs(got[(size_t(f) * n + v) * 3 + k] - want[f](v, k)));
+            moved = std::max(moved, std::abs(want[f](v, k) - garment->rest.vertices(v, k)));
+          }
+      EXPECT_LT(largest, 2e-6) << "stage " << int(stage);
+      EXPECT_GT(moved, 0.1) << "the motion moves the garment";
+    }
   }
+  nn::set_gemm_kernel(initial);
 }
 
 TEST(RuntimeGolden, FlexiGatModelMatchesIndependentReference) {
