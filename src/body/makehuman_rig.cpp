@@ -17,7 +17,7 @@ using Json = nlohmann::ordered_json;
 Json parse_json(const std::string& path) {
   try {
     return Json::parse(read_text_file(path));
-  } catch (const Json::parse_error& e) {
+  } catch (const Json::exception& e) {  // parse errors, and numbers out of range (found by fuzzing)
     fail(PLEAT_ERROR_FORMAT, path + ": not valid JSON: " + e.what());
   }
 }

@@ -252,7 +252,12 @@ NpzArchive read_npz(const std::string& path, const std::vector<std::string>& onl
     char name_buf[1024];
     if (unzGetCurrentFileInfo64(zip, &info, name_buf, sizeof(name_buf), nullptr, 0, nullptr, 0) != UNZ_OK)
       bad(path, "corrupt zip directory entry");
-    const std::string name(name_buf);
+    // minizip leaves the name unterminated when it fills the buffer (found by
+    // fuzz_npz: strlen ran off the stack); the length comes from the entry.
+    if (info.size_filename >= sizeof(name_buf))
+      bad(path, "a zip entry name of " + std::to_string(info.size_filename) + " bytes (at most " +
+                    std::to_string(sizeof(name_buf) - 1) + ")");
+    const std::string name(name_buf, static_cast<size_t>(info.size_filename));
     const std::string entry = path + ": entry '" + name + "'";
     const bool is_npy = name.size() > 4 && name.compare(name.size() - 4, 4, ".npy") == 0;
     const bool wanted = is_npy && (only.empty() || std::find(only.begin(), only.end(),
