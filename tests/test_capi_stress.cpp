@@ -16,6 +16,7 @@
 #include "capi/pleat.h"
 #include "support/capi_chain.h"
 #include "support/capi_support.h"
+#include "support/sanitizers.h"
 
 using namespace pleat_test::chain;
 
@@ -59,6 +60,9 @@ struct GarmentCase {
   std::string name;
   pleat_test::SimpleMesh mesh;
   std::set<pleat_status> refusals;  // statuses it may be refused with; empty: must load
+  bool must_refuse = false;
+  bool prepare = true;  // spectral bands (skipped for the largest garment: minutes of solving)
+  size_t frames = 24;
 };
 
 pleat_test::SimpleMesh scaled(pleat_test::SimpleMesh m, float scale, Eigen::Vector3f at) {
@@ -108,29 +112,44 @@ std::vector<GarmentCase> garment_cases() {
   const Eigen::Vector3f centre(0.0f, 1.05f, 0.15f);
   cases.push_back({"0.1 mm garment (1e-4 m)", scaled(base, 1e-3f, centre), {PLEAT_ERROR_INVALID_MESH}});
   cases.push_back({"10 km garment (1e4 m)", scaled(base, 1e5f, centre), {PLEAT_ERROR_INVALID_MESH}});
+  pleat_test::SimpleMesh one_vertex;
+  one_vertex.positions = {0.0f, 1.0f, 0.15f};
+  cases.push_back({"one vertex, no triangle", one_vertex, {PLEAT_ERROR_INVALID_MESH}, true});
+  // 317 x 317 = 100,489 vertices, 2 mm apart, in front of the body: two
+  // seconds in Release, two minutes under ASan, so the Release run covers it.
+  if (!pleat_test::kUnderAddressSanitizer) {
+    GarmentCase large{
+        "100,489 vertices", pleat_test::grid(317, 317, 0.002f, Eigen::Vector3f(-0.3f, 0.8f, 0.15f)), {}};
+    large.prepare = false;
+    large.frames = 3;
+    cases.push_back(std::move(large));
+  }
   return cases;
 }
 
 TEST(CapiStress, PathologicalGarmentsAreRefusedOrStayBounded) {
   BodyPtr body = chain_body();
   ModelPtr model = initialised(body.get());
-  const Poses poses = swinging(24);
   for (const GarmentCase& c : garment_cases()) {
+    const Poses poses = swinging(c.frames);
     pleat_garment* raw = nullptr;
+    const uint32_t no_triangles[3] = {0, 0, 0};  // a valid pointer for a count of 0
     const pleat_status created =
-        pleat_garment_create(c.mesh.positions.data(), c.mesh.vertex_count(), c.mesh.triangles.data(),
+        pleat_garment_create(c.mesh.positions.data(), c.mesh.vertex_count(),
+                             c.mesh.triangles.empty() ? no_triangles : c.mesh.triangles.data(),
                              c.mesh.triangle_count(), nullptr, &raw);
     pleat_test::GarmentPtr garment(raw);
     std::printf("%-28s create %s", c.name.c_str(), pleat_status_name(created));
     if (created != PLEAT_OK) std::printf(" (%s)\n", pleat_last_error());
+    EXPECT_TRUE(created != PLEAT_OK || !c.must_refuse) << c.name << ": loaded";
     if (created != PLEAT_OK) {
       EXPECT_TRUE(c.refusals.count(created))
           << c.name << ": " << pleat_status_name(created) << " " << pleat_last_error();
       EXPECT_NE(std::string(pleat_last_error()), "") << c.name;
       continue;
     }
-    const pleat_status prepared = pleat_garment_prepare(garment.get(), nullptr);
-    std::printf(", prepare %s\n", pleat_status_name(prepared));
+    const pleat_status prepared = c.prepare ? pleat_garment_prepare(garment.get(), nullptr) : PLEAT_OK;
+    std::printf(", prepare %s\n", c.prepare ? pleat_status_name(prepared) : "skipped");
     EXPECT_TRUE(prepared == PLEAT_OK || c.refusals.count(prepared))
         << c.name << ": prepare " << pleat_status_name(prepared) << " " << pleat_last_error();
     pleat_instance* instance = nullptr;

@@ -9,22 +9,11 @@
 #include <cerrno>
 #include <cstddef>
 
-// GCC says __SANITIZE_ADDRESS__, clang __has_feature(address_sanitizer).
-#if defined(__SANITIZE_ADDRESS__)
-#define PLEAT_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define PLEAT_TEST_ASAN 1
-#endif
-#endif
+#include "support/sanitizers.h"
 
 namespace pleat_test {
 
-#if defined(PLEAT_TEST_ASAN)
-constexpr bool kAllocatorInterposed = false;
-#else
-constexpr bool kAllocatorInterposed = true;
-#endif
+constexpr bool kAllocatorInterposed = !kUnderAddressSanitizer;
 
 namespace detail {
 inline std::atomic<long> allocations{0};
