@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <limits>
 #include <set>
@@ -16,6 +17,7 @@
 #include "capi/pleat.h"
 #include "support/capi_chain.h"
 #include "support/capi_support.h"
+#include "support/interposed_allocator.h"
 #include "support/sanitizers.h"
 
 using namespace pleat_test::chain;
@@ -323,4 +325,59 @@ TEST(CapiStress, MakeHumanSlidersAtTheirLimitsTogether) {
     InstancePtr instance = bind(model.get(), garment.get(), body.get());
     evaluate_motion_bounded(instance.get(), retargeted.get(), 12, context);
   }
+}
+
+// 100,000 frames (times PLEAT_STRESS_SCALE; scripts/stress.sh runs 10x) of a
+// periodic motion, evaluated in chunks into one reused buffer: no allocation
+// in any call, every value finite and within kBound of the skinning stage's,
+// and the last period bit-identical to the first (no drift).
+TEST(CapiStress, LongSequencesNeitherDriftNorGrow) {
+  if (pleat_test::kUnderAddressSanitizer) GTEST_SKIP() << "minutes under ASan; the Release run covers it";
+  const char* scale_text = std::getenv("PLEAT_STRESS_SCALE");
+  const size_t scale = scale_text ? std::max(1, std::atoi(scale_text)) : 1;
+  const size_t frames = 100000 * scale, chunk = 1000, period = 10;
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  const Poses one_period = swinging(period);
+  Poses poses;
+  for (size_t f = 0; f < frames; f += period) {
+    poses.rotations.insert(poses.rotations.end(), one_period.rotations.begin(), one_period.rotations.end());
+    for (size_t i = 0; i < period; ++i)
+      poses.roots.insert(poses.roots.end(), {kJointPositions[0], kJointPositions[1], kJointPositions[2]});
+  }
+  const size_t n = garment_mesh().vertex_count();
+  std::vector<float> full(chunk * n * 3), skinned(chunk * n * 3), first_period, last_period;
+  const pleat_poses view = poses.view();
+  const auto run = [&](size_t first, uint32_t stage, std::vector<float>& out) {
+    pleat_evaluate_options o{};
+    o.struct_size = sizeof o;
+    o.stage = stage;
+    pleat_evaluate_outputs outputs{};
+    outputs.struct_size = sizeof outputs;
+    outputs.positions = {out.data(), 0};
+    return pleat_instance_evaluate(instance.get(), &view, first, chunk, &o, &outputs);
+  };
+  first_period.reserve(period * n * 3);
+  last_period.reserve(period * n * 3);
+  const long allocations_before = pleat_test::allocation_count();
+  float worst = 0.0f;
+  bool finite = true;
+  for (size_t first = 0; first < frames; first += chunk) {
+    ASSERT_EQ(run(first, PLEAT_STAGE_FULL, full), PLEAT_OK) << pleat_last_error();
+    ASSERT_EQ(run(first, PLEAT_STAGE_SKINNING, skinned), PLEAT_OK) << pleat_last_error();
+    for (size_t i = 0; i < full.size(); ++i) {
+      finite = finite && std::isfinite(full[i]);
+      worst = std::max(worst, std::abs(full[i] - skinned[i]));
+    }
+    if (first == 10 * chunk) first_period.assign(full.begin(), full.begin() + period * n * 3);
+  }
+  last_period.assign(full.end() - period * n * 3, full.end());
+  if (pleat_test::kAllocatorInterposed) {
+    EXPECT_EQ(pleat_test::allocation_count() - allocations_before, 0) << "evaluate allocated";
+  }
+  EXPECT_TRUE(finite);
+  EXPECT_LE(worst, kBound);
+  EXPECT_EQ(first_period, last_period) << "frames " << 10 * chunk << "+ and the last period differ";
 }

@@ -17,10 +17,10 @@ using namespace pleat::capi;
 namespace {
 
 pleat_body* load_body(const std::string& path, const pleat_body_load_options& o) {
-  require(o.kind <= PLEAT_BODY_RIGGED_MESH,
-          "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
-  require(o.rig <= PLEAT_RIG_MAKEHUMAN_DEFAULT,
-          "'pleat_body_load_options.rig' has unknown value " + std::to_string(o.rig));
+  PLEAT_REQUIRE(o.kind <= PLEAT_BODY_RIGGED_MESH,
+                "'pleat_body_load_options.kind' has unknown value " + std::to_string(o.kind));
+  PLEAT_REQUIRE(o.rig <= PLEAT_RIG_MAKEHUMAN_DEFAULT,
+                "'pleat_body_load_options.rig' has unknown value " + std::to_string(o.rig));
   BodySource source = load_body_source(path, o.kind, o.rig);
   return new pleat_body{std::move(source.body), std::move(source.reshape)};
 }
@@ -33,15 +33,15 @@ void check_capacity(const T* out, size_t capacity, size_t needed, const char* na
 }
 
 Body body_from_desc(const pleat_body_desc& d) {
-  require(d.joint_count > 0, "'pleat_body_desc.joint_count' is 0");
+  PLEAT_REQUIRE(d.joint_count > 0, "'pleat_body_desc.joint_count' is 0");
   for (const void* field : {static_cast<const void*>(d.joint_names), static_cast<const void*>(d.parents),
                             static_cast<const void*>(d.joint_positions),
                             static_cast<const void*>(d.positions), static_cast<const void*>(d.triangles),
                             static_cast<const void*>(d.weight_joints), static_cast<const void*>(d.weights)})
-    require(field != nullptr, "a pointer field of pleat_body_desc is NULL");
-  require(d.influences > 0, "'pleat_body_desc.influences' is 0");
-  require(d.vertex_count < (size_t{1} << 30) && d.triangle_count < (size_t{1} << 30),
-          "'pleat_body_desc' vertex_count or triangle_count exceeds 2^30");
+    PLEAT_REQUIRE(field != nullptr, "a pointer field of pleat_body_desc is NULL");
+  PLEAT_REQUIRE(d.influences > 0, "'pleat_body_desc.influences' is 0");
+  PLEAT_REQUIRE(d.vertex_count < (size_t{1} << 30) && d.triangle_count < (size_t{1} << 30),
+                "'pleat_body_desc' vertex_count or triangle_count exceeds 2^30");
   Body b;
   b.source = "caller arrays";
   const auto joints = static_cast<Eigen::Index>(d.joint_count);
@@ -49,7 +49,8 @@ Body body_from_desc(const pleat_body_desc& d) {
   const Points3d global = Eigen::Map<const Points3f>(d.joint_positions, joints, 3).cast<double>();
   s.rest_translation.resize(joints, 3);
   for (Eigen::Index j = 0; j < joints; ++j) {
-    require(d.joint_names[j] != nullptr, "'pleat_body_desc.joint_names[" + std::to_string(j) + "]' is NULL");
+    PLEAT_REQUIRE(d.joint_names[j] != nullptr,
+                  "'pleat_body_desc.joint_names[" + std::to_string(j) + "]' is NULL");
     s.names.emplace_back(d.joint_names[j]);
     s.parents.push_back(d.parents[j]);
     s.rest_rotation.push_back(Eigen::Quaterniond::Identity());
@@ -68,15 +69,15 @@ Body body_from_desc(const pleat_body_desc& d) {
     std::vector<std::pair<int32_t, double>> pairs;
     for (size_t k = 0; k < d.influences; ++k) {
       const size_t at = v * d.influences + k;
-      require(d.weight_joints[at] < d.joint_count, "'pleat_body_desc.weight_joints[" + std::to_string(at) +
-                                                       "]' = " + std::to_string(d.weight_joints[at]) +
-                                                       " is not below joint_count");
+      PLEAT_REQUIRE(d.weight_joints[at] < d.joint_count,
+                    "'pleat_body_desc.weight_joints[" + std::to_string(at) +
+                        "]' = " + std::to_string(d.weight_joints[at]) + " is not below joint_count");
       if (d.weights[at] != 0.0f) pairs.emplace_back(static_cast<int32_t>(d.weight_joints[at]), d.weights[at]);
     }
     std::sort(pairs.begin(), pairs.end());
     for (const auto& [joint, weight] : pairs) {
-      require(w.joints.size() == static_cast<size_t>(w.offsets.back()) || w.joints.back() != joint,
-              "vertex " + std::to_string(v) + " names joint " + std::to_string(joint) + " twice");
+      PLEAT_REQUIRE(w.joints.size() == static_cast<size_t>(w.offsets.back()) || w.joints.back() != joint,
+                    "vertex " + std::to_string(v) + " names joint " + std::to_string(joint) + " twice");
       w.joints.push_back(joint);
       w.weights.push_back(weight);
     }
@@ -114,14 +115,14 @@ pleat_status pleat_body_pose(const pleat_body* body, const float* rotations, con
       for (size_t j = 0; j < joints; ++j) {
         const float* q = rotations + (f * joints + j) * 4;
         const Eigen::Quaterniond r(q[3], q[0], q[1], q[2]);
-        require(r.coeffs().allFinite() && std::abs(r.norm() - 1.0) < 1e-3,
-                "rotation of frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" +
-                    b.skeleton.names[j] + "' is not a finite unit quaternion");
+        PLEAT_REQUIRE(r.coeffs().allFinite() && std::abs(r.norm() - 1.0) < 1e-3,
+                      "rotation of frame " + std::to_string(f) + " joint " + std::to_string(j) + " '" +
+                          b.skeleton.names[j] + "' is not a finite unit quaternion");
         pose[f * joints + j] = r.normalized();
       }
       for (int c = 0; c < 3; ++c)
-        require(std::isfinite(root_positions[f * 3 + c]),
-                "root position of frame " + std::to_string(f) + " is not finite");
+        PLEAT_REQUIRE(std::isfinite(root_positions[f * 3 + c]),
+                      "root position of frame " + std::to_string(f) + " is not finite");
     }
     BodyWorkspace workspace;
     Points3d posed;
@@ -184,15 +185,16 @@ pleat_status pleat_body_get_shape(const pleat_body* body, double* values, size_t
 pleat_status pleat_body_set_shape(pleat_body* body, const double* values, size_t count) {
   return guarded(__func__, [&] {
     require_not_null(body, "body");
-    require(static_cast<bool>(body->reshape), "body '" + body->body.source + "' has a fixed shape");
-    require(count == body->body.shape.size(), "count " + std::to_string(count) + " differs from the body's " +
-                                                  std::to_string(body->body.shape.size()) + " shape entries");
+    PLEAT_REQUIRE(static_cast<bool>(body->reshape), "body '" + body->body.source + "' has a fixed shape");
+    PLEAT_REQUIRE(count == body->body.shape.size(),
+                  "count " + std::to_string(count) + " differs from the body's " +
+                      std::to_string(body->body.shape.size()) + " shape entries");
     require_not_null(values, "values");
     for (size_t i = 0; i < count; ++i) {
       const ShapeParameter& p = body->body.shape[i];
-      require(std::isfinite(values[i]) && values[i] >= p.min && values[i] <= p.max,
-              "shape entry " + std::to_string(i) + " '" + p.name + "' = " + std::to_string(values[i]) +
-                  " is outside [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]");
+      PLEAT_REQUIRE(std::isfinite(values[i]) && values[i] >= p.min && values[i] <= p.max,
+                    "shape entry " + std::to_string(i) + " '" + p.name + "' = " + std::to_string(values[i]) +
+                        " is outside [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]");
     }
     body->body = body->reshape(Eigen::Map<const Eigen::VectorXd>(values, static_cast<Eigen::Index>(count)));
   });

@@ -50,10 +50,11 @@ pleat_status pleat_cache_write(const char* path, uint32_t format, const pleat_ga
     const CacheFormat f = resolve_cache_format(path, static_cast<CacheFormat>(format));
     const Triangles* triangles = nullptr;
     if (f == CacheFormat::obj_sequence) {
-      require(garment != nullptr, "argument 'garment' is NULL; an OBJ sequence takes its faces from it");
-      require(static_cast<size_t>(garment->garment->rest.vertex_count()) == vertex_count,
-              "vertex_count " + std::to_string(vertex_count) + " differs from the garment's " +
-                  std::to_string(garment->garment->rest.vertex_count()));
+      PLEAT_REQUIRE(garment != nullptr,
+                    "argument 'garment' is NULL; an OBJ sequence takes its faces from it");
+      PLEAT_REQUIRE(static_cast<size_t>(garment->garment->rest.vertex_count()) == vertex_count,
+                    "vertex_count " + std::to_string(vertex_count) + " differs from the garment's " +
+                        std::to_string(garment->garment->rest.vertex_count()));
       triangles = &garment->garment->rest.triangles;
     }
     const size_t stride = checked_input(positions, "positions", vertex_count, frame_count);

@@ -38,13 +38,17 @@ pleat_status guarded(const char* function, Body&& body) noexcept {
   }
 }
 
-inline void require(bool condition, const std::string& message) {
-  if (!condition) fail(PLEAT_ERROR_INVALID_ARGUMENT, message);
-}
+// Fails with PLEAT_ERROR_INVALID_ARGUMENT and `message` unless `condition`.
+// A macro so that the message is built only on failure: evaluate must not
+// allocate, not even for the message of a check that passes.
+#define PLEAT_REQUIRE(condition, message)                                   \
+  do {                                                                      \
+    if (!(condition)) ::pleat::fail(PLEAT_ERROR_INVALID_ARGUMENT, message); \
+  } while (0)
 
 template <typename T>
 void require_not_null(const T* pointer, const char* name) {
-  require(pointer != nullptr, std::string("argument '") + name + "' is NULL");
+  PLEAT_REQUIRE(pointer != nullptr, std::string("argument '") + name + "' is NULL");
 }
 
 // Reads a caller's options struct: fields beyond the caller's struct_size
@@ -54,9 +58,9 @@ template <typename Options>
 Options read_options(const Options* options, const char* name) {
   Options result{};
   if (!options) return result;
-  require(options->struct_size >= sizeof(uint32_t), std::string("'") + name + ".struct_size' is " +
-                                                        std::to_string(options->struct_size) +
-                                                        "; set it to sizeof(" + name + ")");
+  PLEAT_REQUIRE(options->struct_size >= sizeof(uint32_t), std::string("'") + name + ".struct_size' is " +
+                                                              std::to_string(options->struct_size) +
+                                                              "; set it to sizeof(" + name + ")");
   std::memcpy(&result, options, std::min<size_t>(options->struct_size, sizeof(Options)));
   return result;
 }
@@ -65,9 +69,9 @@ Options read_options(const Options* options, const char* name) {
 template <typename Result>
 void write_result(const Result& result, Result* out, const char* name) {
   require_not_null(out, name);
-  require(out->struct_size >= sizeof(uint32_t), std::string("'") + name + "->struct_size' is " +
-                                                    std::to_string(out->struct_size) +
-                                                    "; set it to sizeof the struct");
+  PLEAT_REQUIRE(out->struct_size >= sizeof(uint32_t), std::string("'") + name + "->struct_size' is " +
+                                                          std::to_string(out->struct_size) +
+                                                          "; set it to sizeof the struct");
   const uint32_t caller_size = out->struct_size;
   std::memcpy(out, &result, std::min<size_t>(caller_size, sizeof(Result)));
   out->struct_size = caller_size;

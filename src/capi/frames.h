@@ -10,15 +10,16 @@ namespace pleat::capi {
 
 inline size_t resolved_stride(size_t stride, size_t vertex_count, const char* name) {
   if (stride == 0) return vertex_count * 3;
-  require(stride >= vertex_count * 3, std::string("'") + name + ".frame_stride' " + std::to_string(stride) +
-                                          " is below vertex_count * 3 = " + std::to_string(vertex_count * 3));
+  PLEAT_REQUIRE(stride >= vertex_count * 3,
+                std::string("'") + name + ".frame_stride' " + std::to_string(stride) +
+                    " is below vertex_count * 3 = " + std::to_string(vertex_count * 3));
   return stride;
 }
 
 // Validates an input buffer (non-NULL, finite values); returns its stride.
 inline size_t checked_input(pleat_const_frames frames, const char* name, size_t vertex_count,
                             size_t frame_count) {
-  require(frames.data != nullptr || frame_count == 0, std::string("'") + name + ".data' is NULL");
+  PLEAT_REQUIRE(frames.data != nullptr || frame_count == 0, std::string("'") + name + ".data' is NULL");
   const size_t stride = resolved_stride(frames.frame_stride, vertex_count, name);
   for (size_t f = 0; f < frame_count; ++f)
     for (size_t i = 0; i < vertex_count * 3; ++i)
@@ -39,8 +40,9 @@ inline Triangles caller_triangles(const uint32_t* indices, size_t triangle_count
                                   const std::string& name) {
   Triangles t(static_cast<Eigen::Index>(triangle_count), 3);
   for (size_t i = 0; i < triangle_count * 3; ++i) {
-    require(indices[i] < vertex_count, name + "[" + std::to_string(i) + "] = " + std::to_string(indices[i]) +
-                                           " is not below vertex_count " + std::to_string(vertex_count));
+    PLEAT_REQUIRE(indices[i] < vertex_count,
+                  name + "[" + std::to_string(i) + "] = " + std::to_string(indices[i]) +
+                      " is not below vertex_count " + std::to_string(vertex_count));
     t.data()[i] = static_cast<int32_t>(indices[i]);
   }
   return t;

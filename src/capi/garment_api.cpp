@@ -20,9 +20,9 @@ namespace {
 
 GarmentBuildOptions build_options(const pleat_garment_load_options* options) {
   pleat_garment_load_options o = read_options(options, "pleat_garment_load_options");
-  require(std::isfinite(o.weld_tolerance), "'pleat_garment_load_options.weld_tolerance' is not finite");
-  require(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
-          "'pleat_garment_load_options.unit_scale' must be a finite positive number (0 = 1)");
+  PLEAT_REQUIRE(std::isfinite(o.weld_tolerance), "'pleat_garment_load_options.weld_tolerance' is not finite");
+  PLEAT_REQUIRE(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
+                "'pleat_garment_load_options.unit_scale' must be a finite positive number (0 = 1)");
   GarmentBuildOptions b;
   b.weld_tolerance = o.weld_tolerance;
   b.unit_scale = o.unit_scale > 0.0 ? o.unit_scale : 1.0;
@@ -63,8 +63,8 @@ pleat_status pleat_garment_create(const float* positions, size_t vertex_count, c
     require_not_null(positions, "positions");
     require_not_null(triangles, "triangles");
     require_not_null(out_garment, "out_garment");
-    require(vertex_count < (size_t{1} << 30) && triangle_count < (size_t{1} << 30),
-            "vertex_count or triangle_count exceeds 2^30");
+    PLEAT_REQUIRE(vertex_count < (size_t{1} << 30) && triangle_count < (size_t{1} << 30),
+                  "vertex_count or triangle_count exceeds 2^30");
     GarmentBuildOptions b = build_options(options);
     Points3d v =
         Eigen::Map<const Points3f>(positions, static_cast<Eigen::Index>(vertex_count), 3).cast<double>();
@@ -123,12 +123,12 @@ pleat_status pleat_garment_prepare(pleat_garment* garment, const pleat_prepare_o
   return guarded(__func__, [&] {
     require_not_null(garment, "garment");
     pleat_prepare_options o = read_options(options, "pleat_prepare_options");
-    require(o.solver <= PLEAT_SOLVER_HYBRID,
-            "'pleat_prepare_options.solver' has unknown value " + std::to_string(o.solver));
-    require(o.projection <= PLEAT_PROJECTION_SYMMETRIC,
-            "'pleat_prepare_options.projection' has unknown value " + std::to_string(o.projection));
-    require(std::isfinite(o.geodesic_radius) && o.geodesic_radius >= 0.0,
-            "'pleat_prepare_options.geodesic_radius' must be finite and >= 0");
+    PLEAT_REQUIRE(o.solver <= PLEAT_SOLVER_HYBRID,
+                  "'pleat_prepare_options.solver' has unknown value " + std::to_string(o.solver));
+    PLEAT_REQUIRE(o.projection <= PLEAT_PROJECTION_SYMMETRIC,
+                  "'pleat_prepare_options.projection' has unknown value " + std::to_string(o.projection));
+    PLEAT_REQUIRE(std::isfinite(o.geodesic_radius) && o.geodesic_radius >= 0.0,
+                  "'pleat_prepare_options.geodesic_radius' must be finite and >= 0");
     BandOptions b;
     if (o.low_fraction != 0.0) b.low_fraction = o.low_fraction;
     if (o.mid_fraction != 0.0) b.mid_fraction = o.mid_fraction;

@@ -12,8 +12,8 @@ using namespace pleat::capi;
 namespace {
 
 int32_t checked_count(uint32_t value, uint32_t limit, const char* field) {
-  require(value <= limit, std::string("'pleat_instance_options.") + field + "' " + std::to_string(value) +
-                              " is above " + std::to_string(limit));
+  PLEAT_REQUIRE(value <= limit, std::string("'pleat_instance_options.") + field + "' " +
+                                    std::to_string(value) + " is above " + std::to_string(limit));
   return static_cast<int32_t>(value);
 }
 
@@ -42,10 +42,10 @@ runtime::Stage stage_of(const pleat_evaluate_options* options) {
 runtime::OutputBuffer output(pleat_frames frames, const char* name, size_t floats_per_frame) {
   if (!frames.data) return {};
   if (frames.frame_stride == 0) return {frames.data, floats_per_frame};
-  require(frames.frame_stride >= floats_per_frame,
-          std::string("'pleat_evaluate_outputs.") + name + ".frame_stride' " +
-              std::to_string(frames.frame_stride) + " is below the " + std::to_string(floats_per_frame) +
-              " floats of a frame");
+  PLEAT_REQUIRE(frames.frame_stride >= floats_per_frame,
+                std::string("'pleat_evaluate_outputs.") + name + ".frame_stride' " +
+                    std::to_string(frames.frame_stride) + " is below the " +
+                    std::to_string(floats_per_frame) + " floats of a frame");
   return {frames.data, frames.frame_stride};
 }
 
@@ -112,12 +112,13 @@ pleat_status pleat_instance_evaluate(pleat_instance* instance, const pleat_poses
     require_not_null(outputs, "outputs");
     runtime::Instance& in = instance->instance;
     const auto p = read_options(poses, "pleat_poses");
-    require(p.frame_count <= static_cast<size_t>(std::numeric_limits<int64_t>::max()) &&
-                first_frame <= p.frame_count && frame_count <= p.frame_count - first_frame,
-            "frames [" + std::to_string(first_frame) + ", " + std::to_string(first_frame + frame_count) +
-                ") are outside the " + std::to_string(p.frame_count) + " frames of 'poses'");
-    require(p.frame_count == 0 || (p.rotations && p.root_positions),
-            "'pleat_poses.rotations' and 'pleat_poses.root_positions' must not be NULL");
+    PLEAT_REQUIRE(p.frame_count <= static_cast<size_t>(std::numeric_limits<int64_t>::max()) &&
+                      first_frame <= p.frame_count && frame_count <= p.frame_count - first_frame,
+                  "frames [" + std::to_string(first_frame) + ", " +
+                      std::to_string(first_frame + frame_count) + ") are outside the " +
+                      std::to_string(p.frame_count) + " frames of 'poses'");
+    PLEAT_REQUIRE(p.frame_count == 0 || (p.rotations && p.root_positions),
+                  "'pleat_poses.rotations' and 'pleat_poses.root_positions' must not be NULL");
     runtime::PoseSequence sequence;
     sequence.rotations = p.rotations;
     sequence.root_positions = p.root_positions;

@@ -20,8 +20,8 @@ pleat_status pleat_metrics_compute(const pleat_garment* garment, pleat_const_fra
     require_not_null(predicted.data, "predicted.data");
     require_not_null(truth.data, "truth.data");
     pleat_metrics_options o = read_options(options, "pleat_metrics_options");
-    require(std::isfinite(o.collision_prefilter),
-            "'pleat_metrics_options.collision_prefilter' is not finite");
+    PLEAT_REQUIRE(std::isfinite(o.collision_prefilter),
+                  "'pleat_metrics_options.collision_prefilter' is not finite");
     MetricsOptions m;
     m.flags = o.flags;
     if (o.collision_prefilter != 0.0) m.collision_prefilter = o.collision_prefilter;

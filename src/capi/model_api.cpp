@@ -51,10 +51,10 @@ pleat_status pleat_model_initialize(const pleat_body* body, const pleat_model_in
     require_not_null(body, "body");
     require_not_null(out_model, "out_model");
     const auto o = read_options(options, "pleat_model_init_options");
-    require(o.window_frames <= 256,
-            "'pleat_model_init_options.window_frames' " + std::to_string(o.window_frames) + " is above 256");
-    require(std::isfinite(o.frame_rate) && o.frame_rate >= 0.0 && o.frame_rate <= 1000.0,
-            "'pleat_model_init_options.frame_rate' must be in (0, 1000] (0 = 30)");
+    PLEAT_REQUIRE(o.window_frames <= 256, "'pleat_model_init_options.window_frames' " +
+                                              std::to_string(o.window_frames) + " is above 256");
+    PLEAT_REQUIRE(std::isfinite(o.frame_rate) && o.frame_rate >= 0.0 && o.frame_rate <= 1000.0,
+                  "'pleat_model_init_options.frame_rate' must be in (0, 1000] (0 = 30)");
     runtime::ModelInitOptions init;
     init.variant = internal_variant(o.variant);
     if (o.window_frames) init.window_frames = static_cast<int32_t>(o.window_frames);

@@ -34,8 +34,8 @@ bool is_bvh(const std::string& path) {
 }
 
 pleat_motion* load_motion(const std::string& path, const pleat_motion_load_options& o) {
-  require(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
-          "'pleat_motion_load_options.unit_scale' must be finite and >= 0");
+  PLEAT_REQUIRE(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
+                "'pleat_motion_load_options.unit_scale' must be finite and >= 0");
   if (is_bvh(path)) {
     BvhOptions b;
     b.scale = o.unit_scale;
@@ -120,9 +120,10 @@ pleat_status pleat_motion_get_frames(const pleat_motion* motion, size_t first_fr
     const Motion& m = motion->motion;
     const auto frames = static_cast<size_t>(m.frame_count),
                joints = static_cast<size_t>(m.skeleton.joint_count());
-    require(first_frame <= frames && frame_count <= frames - first_frame,
-            "frames [" + std::to_string(first_frame) + ", " + std::to_string(first_frame + frame_count) +
-                ") are outside the motion's " + std::to_string(frames));
+    PLEAT_REQUIRE(first_frame <= frames && frame_count <= frames - first_frame,
+                  "frames [" + std::to_string(first_frame) + ", " +
+                      std::to_string(first_frame + frame_count) + ") are outside the motion's " +
+                      std::to_string(frames));
     if (rotations && rotations_capacity < frame_count * joints * 4)
       fail(PLEAT_ERROR_BUFFER_TOO_SMALL, "rotations_capacity is below frame_count * joint_count * 4 = " +
                                              std::to_string(frame_count * joints * 4));
