@@ -234,7 +234,8 @@ TEST(CapiStress, ExtremePosesAreRefusedOrStayBounded) {
 
 namespace {
 
-// Poses of `motion` frames [0, count) as pleat_evaluate wants them.
+// Frames [0, count) of `motion` at the skinning and the full stage: finite,
+// and the full stage within kBound of skinning.
 void evaluate_motion_bounded(pleat_instance* instance, const pleat_motion* motion, size_t count,
                              const std::string& context) {
   pleat_instance_info info{};
@@ -243,12 +244,8 @@ void evaluate_motion_bounded(pleat_instance* instance, const pleat_motion* motio
   std::vector<std::vector<float>> stages;
   for (uint32_t stage : {PLEAT_STAGE_SKINNING, PLEAT_STAGE_FULL}) {
     std::vector<float> positions(count * info.vertex_count * 3, NAN);
-    pleat_evaluate_options o{};
-    o.struct_size = sizeof o;
-    o.stage = stage;
-    pleat_evaluate_outputs out{};
-    out.struct_size = sizeof out;
-    out.positions = {positions.data(), 0};
+    const pleat_evaluate_options o = stage_options(stage);
+    const pleat_evaluate_outputs out = positions_into(positions.data());
     ASSERT_EQ(pleat_instance_evaluate_motion(instance, motion, 0, count, &o, &out), PLEAT_OK)
         << context << ": " << pleat_last_error();
     stages.push_back(std::move(positions));
@@ -351,12 +348,8 @@ TEST(CapiStress, LongSequencesNeitherDriftNorGrow) {
   std::vector<float> full(chunk * n * 3), skinned(chunk * n * 3), first_period, last_period;
   const pleat_poses view = poses.view();
   const auto run = [&](size_t first, uint32_t stage, std::vector<float>& out) {
-    pleat_evaluate_options o{};
-    o.struct_size = sizeof o;
-    o.stage = stage;
-    pleat_evaluate_outputs outputs{};
-    outputs.struct_size = sizeof outputs;
-    outputs.positions = {out.data(), 0};
+    const pleat_evaluate_options o = stage_options(stage);
+    const pleat_evaluate_outputs outputs = positions_into(out.data());
     return pleat_instance_evaluate(instance.get(), &view, first, chunk, &o, &outputs);
   };
   first_period.reserve(period * n * 3);

@@ -117,18 +117,29 @@ inline Poses root_motion(size_t frames, const float step[3], const float root_ro
   return p;
 }
 
+inline pleat_evaluate_options stage_options(uint32_t stage) {
+  pleat_evaluate_options o{};
+  o.struct_size = sizeof o;
+  o.stage = stage;
+  return o;
+}
+
+// Outputs with positions only, packed, into `positions`.
+inline pleat_evaluate_outputs positions_into(float* positions) {
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.positions = {positions, 0};
+  return out;
+}
+
 inline std::vector<float> evaluate(pleat_instance* instance, const Poses& poses, size_t first, size_t count,
                                    uint32_t stage, std::vector<float>* weights = nullptr) {
   pleat_instance_info info{};
   info.struct_size = sizeof info;
   EXPECT_EQ(pleat_instance_get_info(instance, &info), PLEAT_OK);
   std::vector<float> positions(count * info.vertex_count * 3, -1.0f);
-  pleat_evaluate_options o{};
-  o.struct_size = sizeof o;
-  o.stage = stage;
-  pleat_evaluate_outputs out{};
-  out.struct_size = sizeof out;
-  out.positions = {positions.data(), 0};
+  const pleat_evaluate_options o = stage_options(stage);
+  pleat_evaluate_outputs out = positions_into(positions.data());
   if (weights) {
     weights->assign(count * info.vertex_count * kJoints, -1.0f);
     out.skinning_weights = {weights->data(), 0};
