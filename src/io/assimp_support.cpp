@@ -103,8 +103,9 @@ void check_binary_fbx_depth(const std::string& path, const std::string& bytes) {
   }
 }
 
-void check_fbx_depth(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+void check_fbx_depth(const std::string& path, std::ifstream& in) {
+  in.clear();
+  in.seekg(0);
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (bytes.rfind("Kaydara FBX Binary", 0) == 0)
     check_binary_fbx_depth(path, bytes);
@@ -121,7 +122,7 @@ void check_assimp_input(const std::string& path) {
   check_binary_gltf_header(path, probe);
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".fbx") check_fbx_depth(path);
+  if (extension == ".fbx") check_fbx_depth(path, probe);
 }
 
 double scene_unit_scale(const aiScene* scene) {
