@@ -17,6 +17,7 @@
 #include "nn/gemm.h"
 #include "nn/graph_attention.h"
 #include "nn/gru.h"
+#include "nn/kernel_path.h"
 #include "nn/mlp.h"
 #include "nn/parallel.h"
 #include "spectral/blas_threads.h"
@@ -82,7 +83,7 @@ void compare_gemm_kernels(std::mt19937& rng) {
   std::printf("inference GEMM, one thread, median us per call (ratio: OpenBLAS time / kernel time)\n");
   std::printf("  %-16s %10s %10s %10s %8s %8s\n", "m x k x n", "OpenBLAS", "baseline", "avx2", "ratio b",
               "ratio a");
-  const GemmKernel initial = gemm_kernel();
+  const KernelPath initial = kernel_path();
   pleat::SingleThreadedBlas one_blas_thread;
   for (auto [m, k, n] : {std::tuple<Index, Index, Index>{512, 64, 264},
                          {512, 33, 264},
@@ -93,13 +94,13 @@ void compare_gemm_kernels(std::mt19937& rng) {
     MatrixRM c(m, n);
     const double blas = pleat_bench::median_seconds([&] { c.noalias() = a * b; }, g_reps);
     double t[2] = {NAN, NAN};
-    for (GemmKernel kernel : {GemmKernel::baseline, GemmKernel::avx2})
-      if (set_gemm_kernel(kernel))
-        t[kernel == GemmKernel::avx2] = pleat_bench::median_seconds([&] { gemm(a, b, c); }, g_reps);
+    for (KernelPath kernel : {KernelPath::baseline, KernelPath::avx2})
+      if (set_kernel_path(kernel))
+        t[kernel == KernelPath::avx2] = pleat_bench::median_seconds([&] { gemm(a, b, c); }, g_reps);
     std::printf("  %4ldx%4ldx%5ld %10.1f %10.1f %10.1f %8.2f %8.2f\n", long(m), long(k), long(n), blas * 1e6,
                 t[0] * 1e6, t[1] * 1e6, blas / t[0], blas / t[1]);
   }
-  set_gemm_kernel(initial);
+  set_kernel_path(initial);
   std::printf("\n");
 }
 

@@ -21,6 +21,7 @@
 #include "body/motion_ops.h"
 #include "garment/garment.h"
 #include "nn/gemm.h"
+#include "nn/kernel_path.h"
 #include "nn/tensor.h"
 #include "runtime/instance.h"
 #include "runtime/model_init.h"
@@ -126,12 +127,12 @@ int main(int argc, char** argv) {
   const double peak = sgemm_peak(reps);
   std::printf("sgemm peak (OpenBLAS %s kernels, 2 threads, same run): %.1f GFLOP/s\n",
               openblas_get_corename(), peak);
-  // Every stage is timed with each GEMM kernel the CPU runs (nn/gemm.h);
+  // Every stage is timed on each kernel path the CPU runs (nn/kernel_path.h);
   // fps and GFLOP/s are for the default, the last of them.
-  std::vector<nn::GemmKernel> kernels;
-  for (nn::GemmKernel k : {nn::GemmKernel::baseline, nn::GemmKernel::avx2})
-    if (nn::set_gemm_kernel(k)) kernels.push_back(k);
-  std::printf("inference GEMM: %s by default\n", nn::gemm_kernel_name(kernels.back()));
+  std::vector<nn::KernelPath> kernels;
+  for (nn::KernelPath k : {nn::KernelPath::baseline, nn::KernelPath::avx2})
+    if (nn::set_kernel_path(k)) kernels.push_back(k);
+  std::printf("kernel path (GEMM and attention): %s by default\n", nn::kernel_path_name(kernels.back()));
 
   const Body body = MakeHumanModel::load(assets + "/body")->body(makehuman_default_beta());
   ModelSkeleton skeleton{body.skeleton.names, body.skeleton.parents};
@@ -179,12 +180,12 @@ int main(int argc, char** argv) {
             {Stage::blend_shapes, "blend-shapes", flops.blend},
             {Stage::refinement, "full", flops.refinement}}) {
         double ms[2] = {NAN, NAN}, t = 0.0;
-        for (nn::GemmKernel kernel : kernels) {
-          nn::set_gemm_kernel(kernel);
+        for (nn::KernelPath kernel : kernels) {
+          nn::set_kernel_path(kernel);
           t = pleat_bench::median_seconds([&] { instance.evaluate(poses, frames - 8, 8, stage, outputs); },
                                           reps) /
               8.0;
-          ms[kernel == nn::GemmKernel::avx2] = t * 1e3;
+          ms[kernel == nn::KernelPath::avx2] = t * 1e3;
         }
         const double gflops = f / t * 1e-9;
         std::printf("%7d %7d %-12s %13.3f %13.3f %9.1f %9.1f %8.1f %6.1f%%\n", n, threads, name, ms[0], ms[1],

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "nn/gemm.h"
+#include "support/kernel_paths.h"
 
 using namespace pleat::nn;
 
@@ -22,16 +23,6 @@ struct Shape {
 const Shape kShapes[] = {{512, 64, 264}, {512, 9, 64}, {8, 384, 1152}, {4096, 64, 31}, {1, 64, 64},
                          {64, 1, 64},    {37, 53, 1},  {3, 3, 3},      {1000, 128, 96}};
 
-// The kernels this CPU can run, restoring the default afterwards.
-std::vector<GemmKernel> runnable_kernels() {
-  const GemmKernel initial = gemm_kernel();
-  std::vector<GemmKernel> kernels;
-  for (GemmKernel k : {GemmKernel::baseline, GemmKernel::avx2})
-    if (set_gemm_kernel(k)) kernels.push_back(k);
-  set_gemm_kernel(initial);
-  return kernels;
-}
-
 MatrixRM random_matrix(Index rows, Index cols, std::mt19937& rng) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   MatrixRM m(rows, cols);
@@ -40,8 +31,8 @@ MatrixRM random_matrix(Index rows, Index cols, std::mt19937& rng) {
 }
 
 TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
-  const GemmKernel initial = gemm_kernel();
-  const auto kernels = runnable_kernels();
+  const KernelPath initial = kernel_path();
+  const auto kernels = pleat::test::runnable_kernel_paths();
   ASSERT_FALSE(kernels.empty());
   std::mt19937 rng(5);
   for (const Shape& s : kShapes) {
@@ -51,8 +42,8 @@ TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
     const ConstMatrixMap b = view(b_storage.data(), s.k, s.n, s.n + 5);
     Eigen::MatrixXd reference = a.cast<double>() * b.cast<double>();
     std::vector<MatrixRM> results;
-    for (GemmKernel kernel : kernels) {
-      ASSERT_TRUE(set_gemm_kernel(kernel));
+    for (KernelPath kernel : kernels) {
+      ASSERT_TRUE(set_kernel_path(kernel));
       MatrixRM c_storage = MatrixRM::Constant(s.m, s.n + 2, 7.0f);
       MatrixMap c = view(c_storage.data(), s.m, s.n, s.n + 2);
       gemm(a, b, c);
@@ -61,7 +52,7 @@ TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
           (a.cast<double>().cwiseAbs() * b.cast<double>().cwiseAbs()) * (double(s.k) * 1.2e-7) +
           Eigen::MatrixXd::Constant(s.m, s.n, 1e-30);
       const double worst = ((c.cast<double>() - reference).cwiseAbs().array() / bound.array()).maxCoeff();
-      EXPECT_LE(worst, 1.0) << gemm_kernel_name(kernel) << " " << s.m << "x" << s.k << "x" << s.n;
+      EXPECT_LE(worst, 1.0) << kernel_path_name(kernel) << " " << s.m << "x" << s.k << "x" << s.n;
       EXPECT_TRUE((c_storage.rightCols(2).array() == 7.0f).all()) << "wrote past the view's columns";
       results.push_back(c);
     }
@@ -69,14 +60,14 @@ TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
       EXPECT_LE((results[0] - results[1]).cwiseAbs().maxCoeff(), 1e-5f * float(s.k)) << s.m << "x" << s.k;
     }
   }
-  set_gemm_kernel(initial);
+  set_kernel_path(initial);
 }
 
 TEST(NnGemm, TheBestKernelIsTheDefault) {
-  const auto kernels = runnable_kernels();
-  EXPECT_EQ(gemm_kernel(), kernels.back()) << gemm_kernel_name(gemm_kernel());
-  EXPECT_TRUE(set_gemm_kernel(GemmKernel::baseline)) << "every x86-64 CPU runs the baseline";
-  set_gemm_kernel(kernels.back());
+  const auto kernels = pleat::test::runnable_kernel_paths();
+  EXPECT_EQ(kernel_path(), kernels.back()) << kernel_path_name(kernel_path());
+  EXPECT_TRUE(set_kernel_path(KernelPath::baseline)) << "every x86-64 CPU runs the baseline";
+  set_kernel_path(kernels.back());
 }
 
 }  // namespace

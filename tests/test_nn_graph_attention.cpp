@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "nn/graph_attention.h"
 #include "support/expect_error.h"
+#include "support/kernel_paths.h"
 
 using namespace pleat;
 using namespace pleat::nn;
@@ -259,46 +260,50 @@ TEST(NnGraphAttention, HandCheckedLeakyReluSoftmax) {
   EXPECT_NEAR(lg(0, 1), l1 / (l0 + l1), 1e-6);
 }
 
+// Both kernel paths (baseline and AVX2, nn/kernel_path.h) on every variant,
+// head count, merge mode and the scalar and SIMD widths.
 TEST(NnGraphAttention, MatchesNaiveReferenceAllVariants) {
-  std::mt19937 rng(7);
-  for (int trial = 0; trial < 3; ++trial) {
-    const Graph g = random_graph(14, 0.3, rng);
-    const AttentionGraph graph = attention_graph(g.csr);
-    for (AttentionVariant variant :
-         {AttentionVariant::gat, AttentionVariant::lgat, AttentionVariant::flexigat})
-      for (int heads : {1, 2, 3, 4, 8})
-        for (HeadMerge merge : {HeadMerge::concat, HeadMerge::mean}) {
-          const Index in = 5 + trial, d = trial == 0 ? 3 : trial == 1 ? 4 : 8;  // scalar / SIMD paths
-          const GraphAttentionLayer layer = random_layer(variant, heads, merge, in, d, rng);
-          const MatrixRM v = random_matrix(14, in, rng);
-          std::vector<float> alpha(static_cast<size_t>(graph.edge_count() * heads));
-          std::vector<float> pre(static_cast<size_t>(14 * layer.out_width()));
-          std::vector<float> z(static_cast<size_t>(14 * layer.projected_width()));
-          GraphAttentionSaved saved;
-          saved.alpha = alpha.data();
-          saved.pre_activation = pre.data();
-          saved.projected = z.data();
-          const MatrixRM out = run(layer, graph, v, &saved);
-          const Reference ref = reference(layer, g, v);
-          const std::string what = std::string(name_of(variant)) + " heads " + std::to_string(heads) +
-                                   (merge == HeadMerge::concat ? " concat" : " mean") + " trial " +
-                                   std::to_string(trial);
-          ASSERT_EQ(out.cols(), static_cast<Index>(ref.out[0].size())) << what;
-          for (int i = 0; i < 14; ++i) {
-            for (Index c = 0; c < out.cols(); ++c) {
-              ASSERT_NEAR(out(i, c), ref.out[i][c], 2e-5) << what << " node " << i << " col " << c;
-              ASSERT_NEAR(std::tanh(pre[i * out.cols() + c]), out(i, c), 1e-6) << what;
+  test::for_each_kernel_path([](nn::KernelPath) {
+    std::mt19937 rng(7);
+    for (int trial = 0; trial < 3; ++trial) {
+      const Graph g = random_graph(14, 0.3, rng);
+      const AttentionGraph graph = attention_graph(g.csr);
+      for (AttentionVariant variant :
+           {AttentionVariant::gat, AttentionVariant::lgat, AttentionVariant::flexigat})
+        for (int heads : {1, 2, 3, 4, 8})
+          for (HeadMerge merge : {HeadMerge::concat, HeadMerge::mean}) {
+            const Index in = 5 + trial, d = trial == 0 ? 3 : trial == 1 ? 4 : 8;  // scalar / SIMD paths
+            const GraphAttentionLayer layer = random_layer(variant, heads, merge, in, d, rng);
+            const MatrixRM v = random_matrix(14, in, rng);
+            std::vector<float> alpha(static_cast<size_t>(graph.edge_count() * heads));
+            std::vector<float> pre(static_cast<size_t>(14 * layer.out_width()));
+            std::vector<float> z(static_cast<size_t>(14 * layer.projected_width()));
+            GraphAttentionSaved saved;
+            saved.alpha = alpha.data();
+            saved.pre_activation = pre.data();
+            saved.projected = z.data();
+            const MatrixRM out = run(layer, graph, v, &saved);
+            const Reference ref = reference(layer, g, v);
+            const std::string what = std::string(name_of(variant)) + " heads " + std::to_string(heads) +
+                                     (merge == HeadMerge::concat ? " concat" : " mean") + " trial " +
+                                     std::to_string(trial);
+            ASSERT_EQ(out.cols(), static_cast<Index>(ref.out[0].size())) << what;
+            for (int i = 0; i < 14; ++i) {
+              for (Index c = 0; c < out.cols(); ++c) {
+                ASSERT_NEAR(out(i, c), ref.out[i][c], 2e-5) << what << " node " << i << " col " << c;
+                ASSERT_NEAR(std::tanh(pre[i * out.cols() + c]), out(i, c), 1e-6) << what;
+              }
+              for (size_t k = 0; k < g.neighbourhood[i].size(); ++k)
+                for (int h = 0; h < heads; ++h)
+                  ASSERT_NEAR(alpha[(graph.offsets[i] + k) * heads + h], ref.alpha[i][k][h], 2e-6)
+                      << what << " alpha node " << i;
             }
-            for (size_t k = 0; k < g.neighbourhood[i].size(); ++k)
-              for (int h = 0; h < heads; ++h)
-                ASSERT_NEAR(alpha[(graph.offsets[i] + k) * heads + h], ref.alpha[i][k][h], 2e-6)
-                    << what << " alpha node " << i;
+            // The saved projection is V [W | S | T].
+            const MatrixRM expect_z = v * layer.folded;
+            for (Index k = 0; k < expect_z.size(); ++k) ASSERT_NEAR(z[k], expect_z.data()[k], 1e-5);
           }
-          // The saved projection is V [W | S | T].
-          const MatrixRM expect_z = v * layer.folded;
-          for (Index k = 0; k < expect_z.size(); ++k) ASSERT_NEAR(z[k], expect_z.data()[k], 1e-5);
-        }
-  }
+    }
+  });
 }
 
 TEST(NnGraphAttention, FlexiGatWithUnitPQEqualsGatExactly) {

@@ -19,6 +19,7 @@
 #include "runtime/binding.h"
 #include "runtime/instance.h"
 #include "runtime/model.h"
+#include "support/kernel_paths.h"
 #include "support/stage_outputs.h"
 
 namespace {
@@ -418,11 +419,8 @@ void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1
   const auto garment = sheet();
   const Poses p = motion();
   const PoseSequence poses{p.rotations.data(), p.roots.data(), kFrames, kJoints, kFps};
-  // Every GEMM kernel this CPU runs (nn/gemm.h) meets the same reference.
-  const nn::GemmKernel initial = nn::gemm_kernel();
-  for (nn::GemmKernel kernel : {nn::GemmKernel::baseline, nn::GemmKernel::avx2}) {
-    if (!nn::set_gemm_kernel(kernel)) continue;
-    SCOPED_TRACE(nn::gemm_kernel_name(kernel));
+  // Every kernel path this CPU runs (nn/kernel_path.h) meets the same reference.
+  test::for_each_kernel_path([&](nn::KernelPath) {
     InstanceOptions options;
     Instance instance(model, garment, body, options);
     ASSERT_EQ(instance.top_k(), 2);
@@ -443,8 +441,7 @@ void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1
       EXPECT_LT(largest, 2e-6) << "stage " << int(stage);
       EXPECT_GT(moved, 0.1) << "the motion moves the garment";
     }
-  }
-  nn::set_gemm_kernel(initial);
+  });
 }
 
 TEST(RuntimeGolden, FlexiGatModelMatchesIndependentReference) {

@@ -5,6 +5,8 @@
 #include <limits>
 
 #include "nn/gemm.h"
+#include "nn/kernel_path.h"
+#include "nn/kernels/attention_kernel.h"
 
 namespace pleat::nn {
 
@@ -114,6 +116,56 @@ AttentionParams attention_params(const GraphAttentionLayer& layer) {
   params.bias = layer.bias.size() != 0 ? layer.bias.data() : nullptr;
   return params;
 }
+
+template <typename Scalar>
+void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* projected, Index zstride,
+                          int32_t begin, int32_t end, Scalar* norms) {
+  const int32_t heads = params.heads;
+  const Index d = params.head_width;
+  for (int32_t j = begin; j < end; ++j) {
+    const Scalar* zj = projected + static_cast<Index>(j) * zstride;
+    for (int32_t h = 0; h < heads; ++h) {
+      Scalar s = 0;
+      for (Index k = 0; k < d; ++k) s += zj[h * d + k] * zj[h * d + k];
+      norms[static_cast<Index>(j) * heads + h] = std::sqrt(s);
+    }
+  }
+}
+
+template <typename Scalar>
+void attention_aggregate(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
+                         const NonDeduced<Scalar>* projected, Index zstride, const NonDeduced<Scalar>* norms,
+                         int32_t begin, int32_t end, NonDeduced<Scalar>* out, Index ostride,
+                         NonDeduced<Scalar>* alpha, NonDeduced<Scalar>* scratch,
+                         NonDeduced<Scalar>* lipschitz_denominator) {
+  const kernels::AggregateCall<Scalar> call{&params,
+                                            graph.offsets.data(),
+                                            graph.sources.data(),
+                                            projected,
+                                            zstride,
+                                            norms,
+                                            begin,
+                                            end,
+                                            out,
+                                            ostride,
+                                            alpha,
+                                            scratch,
+                                            lipschitz_denominator};
+  if (kernel_path() == KernelPath::avx2)
+    kernels::attention_aggregate_avx2(call);
+  else
+    kernels::attention_aggregate_baseline(call);
+}
+
+template void attention_node_norms(const AttentionParamsT<float>&, const float*, Index, int32_t, int32_t,
+                                   float*);
+template void attention_node_norms(const AttentionParamsT<double>&, const double*, Index, int32_t, int32_t,
+                                   double*);
+template void attention_aggregate(const AttentionParamsT<float>&, const AttentionGraph&, const float*, Index,
+                                  const float*, int32_t, int32_t, float*, Index, float*, float*, float*);
+template void attention_aggregate(const AttentionParamsT<double>&, const AttentionGraph&, const double*,
+                                  Index, const double*, int32_t, int32_t, double*, Index, double*, double*,
+                                  double*);
 
 size_t attention_scratch_floats(size_t heads, size_t heads_times_width, const AttentionGraph& graph) {
   return heads_times_width + static_cast<size_t>(std::max(graph.max_degree, 0)) * heads;

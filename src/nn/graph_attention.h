@@ -27,6 +27,7 @@
 
 #include "core/mesh.h"
 #include "nn/activation.h"
+#include "nn/attention_params.h"
 #include "nn/parallel.h"
 #include "nn/tensor.h"
 
@@ -50,10 +51,6 @@ struct AttentionGraph {
 AttentionGraph attention_graph(const Csr& graph);
 
 enum class AttentionVariant : int32_t { gat = 0, lgat = 1, flexigat = 2 };
-enum class HeadMerge : int32_t { concat = 0, mean = 1 };
-
-constexpr int32_t kMaxAttentionHeads = 16;
-
 struct GraphAttentionLayer {
   std::string name = "graph_attention";
   AttentionVariant variant = AttentionVariant::gat;
@@ -84,27 +81,13 @@ struct GraphAttentionLayer {
   RowVector neighbour_coefficient;  // heads: Q (1 for gat, lgat)
 };
 
-// Parameters of the raw-buffer kernel (everything after the GEMM). The
-// kernel exists for float (the runtime, training) and double (gradient
-// checks of the trainer's backward).
+// The raw-buffer kernel (everything after the GEMM) takes AttentionParamsT
+// (nn/attention_params.h). It exists for float (the runtime, training) and
+// double (gradient checks of the trainer's backward).
 // Pointer arguments take their scalar type from the params (so nullptr binds).
 template <typename T>
 using NonDeduced = typename std::enable_if<true, T>::type;
 
-template <typename Scalar>
-struct AttentionParamsT {
-  int32_t heads = 1;
-  int32_t head_width = 1;
-  HeadMerge merge = HeadMerge::concat;
-  bool lipschitz = false;  // lgat
-  Scalar negative_slope = Scalar(0.2);
-  Scalar lipschitz_epsilon = Scalar(1e-6);
-  const Scalar* self_coefficient = nullptr;       // heads: P - Q
-  const Scalar* neighbour_coefficient = nullptr;  // heads: Q
-  const Scalar* self_norm = nullptr;              // heads: ||a_self||      (lipschitz only)
-  const Scalar* neighbour_norm = nullptr;         // heads: ||a_neighbour|| (lipschitz only)
-  const Scalar* bias = nullptr;                   // out width, or null
-};
 using AttentionParams = AttentionParamsT<float>;
 AttentionParams attention_params(const GraphAttentionLayer& layer);
 
@@ -117,7 +100,8 @@ void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* 
 // The fused kernel for destination nodes [begin, end): writes
 // y_i + bias (pre-activation) to out (row stride ostride). Nodes are
 // independent, so any split of [0, N) over threads gives bit-identical
-// results. norms: from attention_node_norms over ALL nodes (lipschitz only,
+// results for one kernel path (nn/kernel_path.h; the AVX2 and baseline paths
+// differ by rounding, FMA). norms: from attention_node_norms over ALL nodes (lipschitz only,
 // else null). alpha: E x heads output (saved softmax, for a backward) or null.
 // scratch: attention_scratch_floats(heads, heads * head_width, graph) floats,
 // private to the calling thread.

@@ -1,14 +1,20 @@
-#include <algorithm>
-#include <cmath>
-#include <limits>
-
-#include "nn/graph_attention.h"
-
 // The attention kernel: logits, softmax and the weighted sum per destination
-// node, specialised at compile time by head count, variant and merge mode.
+// node, specialised at compile time by head count, variant and merge mode,
+// and compiled once per instruction set (nn/kernels/eigen_renamed.h).
+#include "nn/kernels/eigen_renamed.h"
+// Only plain data from pleat (nn/attention_params.h): nothing the linker
+// could merge with the other build.
+#include "nn/kernels/attention_kernel.h"
 
-namespace pleat::nn {
+namespace pleat::nn::kernels {
 namespace {
+
+using Index = std::ptrdiff_t;
+
+template <typename Scalar>
+inline Scalar max_of(Scalar a, Scalar b) {  // std::max would be a symbol both builds share
+  return a < b ? b : a;
+}
 
 template <typename Scalar>
 using Packet = Eigen::Array<Scalar, 4, 1>;
@@ -108,7 +114,7 @@ inline void softmax_scalar(const AttentionParamsT<Scalar>& params, int32_t heads
     for (int32_t h = 0; h < heads; ++h) largest[h] = 0.0f;
     for (int32_t e = 0; e < degree; ++e) {
       const Scalar* nj = norms + static_cast<Index>(nb[e]) * heads;
-      for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], nj[h]);
+      for (int32_t h = 0; h < heads; ++h) largest[h] = max_of(largest[h], nj[h]);
     }
     for (int32_t h = 0; h < heads; ++h) {
       const Scalar den = params.self_norm[h] * norms[static_cast<Index>(i) * heads + h] +
@@ -133,7 +139,7 @@ inline void softmax_scalar(const AttentionParamsT<Scalar>& params, int32_t heads
   Scalar largest[kMaxAttentionHeads];
   for (int32_t h = 0; h < heads; ++h) largest[h] = a[h];
   for (int32_t e = 1; e < degree; ++e)
-    for (int32_t h = 0; h < heads; ++h) largest[h] = std::max(largest[h], a[e * heads + h]);
+    for (int32_t h = 0; h < heads; ++h) largest[h] = max_of(largest[h], a[e * heads + h]);
   for (int32_t e = 0; e < degree; ++e)
     for (int32_t h = 0; h < heads; ++h) a[e * heads + h] -= largest[h];
   block = block.exp();
@@ -173,7 +179,7 @@ inline void softmax_packets(const AttentionParamsT<Scalar>& params, int32_t i, i
   }
   const Scalar slope = params.negative_slope;
   for (int p = 0; p < kPackets; ++p)
-    largest[p] = Packet<Scalar>::Constant(-std::numeric_limits<Scalar>::infinity());
+    largest[p] = Packet<Scalar>::Constant(-Eigen::NumTraits<Scalar>::infinity());
   for (int32_t e = 0; e < degree; ++e) {
     const Scalar* t = z + static_cast<Index>(nb[e]) * zstride + width + kHeads;
     for (int p = 0; p < kPackets; ++p) {
@@ -202,16 +208,23 @@ inline void softmax_packets(const AttentionParamsT<Scalar>& params, int32_t i, i
 // Lipschitz and the merge mode are template parameters too, so the inner
 // loops carry no branches.
 template <typename Scalar, int kHeads, bool kLipschitz, bool kConcat>
-void aggregate_nodes(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph, const Scalar* z,
-                     Index zstride, const Scalar* norms, int32_t begin, int32_t end, Scalar* out,
-                     Index ostride, Scalar* alpha, Scalar* scratch, Scalar* lipschitz_denominator) {
+void aggregate_nodes(const AggregateCall<Scalar>& call) {
+  const AttentionParamsT<Scalar>& params = *call.params;
+  const Scalar* z = call.z;
+  const Index zstride = call.zstride;
+  const Scalar* norms = call.norms;
+  Scalar* out = call.out;
+  const Index ostride = call.ostride;
+  Scalar* alpha = call.alpha;
+  Scalar* scratch = call.scratch;
+  Scalar* lipschitz_denominator = call.lipschitz_denominator;
   const int32_t heads = kHeads > 0 ? kHeads : params.heads;
   const Index d = params.head_width;
   const Index width = static_cast<Index>(heads) * d;  // columns of z holding z_j
   const Index out_width = kConcat ? width : d;
   const Scalar head_scale = kConcat ? 1.0f : 1.0f / static_cast<Scalar>(heads);
-  const int32_t* offsets = graph.offsets.data();
-  const int32_t* sources = graph.sources.data();
+  const int32_t* offsets = call.offsets;
+  const int32_t* sources = call.sources;
   Scalar* head_rows = scratch;  // heads * d' (mean, generic d'); then max_degree * heads (alpha)
 
   // Per-head coefficients: Q (times 1/H for mean) on alpha, (P - Q) on z_i.
@@ -223,7 +236,7 @@ void aggregate_nodes(const AttentionParamsT<Scalar>& params, const AttentionGrap
     has_self_term = has_self_term || self_coefficient[h] != 0.0f;
   }
 
-  for (int32_t i = begin; i < end; ++i) {
+  for (int32_t i = call.begin; i < call.end; ++i) {
     Scalar* __restrict row = out + static_cast<Index>(i) * ostride;
     const int32_t first = offsets[i];
     const int32_t degree = offsets[i + 1] - first;
@@ -296,77 +309,40 @@ void aggregate_nodes(const AttentionParamsT<Scalar>& params, const AttentionGrap
 }
 
 template <typename Scalar, int kHeads>
-void aggregate_dispatch(const AttentionParamsT<Scalar>& p, const AttentionGraph& g, const Scalar* z, Index zs,
-                        const Scalar* norms, int32_t begin, int32_t end, Scalar* out, Index os, Scalar* alpha,
-                        Scalar* scratch, Scalar* den) {
-  const bool concat = p.merge == HeadMerge::concat;
-  if (p.lipschitz) {
+void aggregate_dispatch(const AggregateCall<Scalar>& call) {
+  const bool concat = call.params->merge == HeadMerge::concat;
+  if (call.params->lipschitz) {
     if (concat)
-      aggregate_nodes<Scalar, kHeads, true, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
-                                                  den);
+      aggregate_nodes<Scalar, kHeads, true, true>(call);
     else
-      aggregate_nodes<Scalar, kHeads, true, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
-                                                   den);
+      aggregate_nodes<Scalar, kHeads, true, false>(call);
   } else {
     if (concat)
-      aggregate_nodes<Scalar, kHeads, false, true>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
-                                                   den);
+      aggregate_nodes<Scalar, kHeads, false, true>(call);
     else
-      aggregate_nodes<Scalar, kHeads, false, false>(p, g, z, zs, norms, begin, end, out, os, alpha, scratch,
-                                                    den);
+      aggregate_nodes<Scalar, kHeads, false, false>(call);
+  }
+}
+
+template <typename Scalar>
+void aggregate(const AggregateCall<Scalar>& call) {
+  switch (call.params->heads) {
+    case 1: return aggregate_dispatch<Scalar, 1>(call);
+    case 2: return aggregate_dispatch<Scalar, 2>(call);
+    case 4: return aggregate_dispatch<Scalar, 4>(call);
+    case 8: return aggregate_dispatch<Scalar, 8>(call);
+    default: return aggregate_dispatch<Scalar, 0>(call);
   }
 }
 
 }  // namespace
 
-template <typename Scalar>
-void attention_node_norms(const AttentionParamsT<Scalar>& params, const Scalar* projected, Index zstride,
-                          int32_t begin, int32_t end, Scalar* norms) {
-  const int32_t heads = params.heads;
-  const Index d = params.head_width;
-  for (int32_t j = begin; j < end; ++j) {
-    const Scalar* zj = projected + static_cast<Index>(j) * zstride;
-    for (int32_t h = 0; h < heads; ++h) {
-      Scalar s = 0;
-      for (Index k = 0; k < d; ++k) s += zj[h * d + k] * zj[h * d + k];
-      norms[static_cast<Index>(j) * heads + h] = std::sqrt(s);
-    }
-  }
+void PLEAT_KERNEL_ENTRY(attention_aggregate)(const AggregateCall<float>& call) {
+  aggregate(call);
 }
 
-template <typename Scalar>
-void attention_aggregate(const AttentionParamsT<Scalar>& params, const AttentionGraph& graph,
-                         const NonDeduced<Scalar>* projected, Index zstride, const NonDeduced<Scalar>* norms,
-                         int32_t begin, int32_t end, NonDeduced<Scalar>* out, Index ostride,
-                         NonDeduced<Scalar>* alpha, NonDeduced<Scalar>* scratch,
-                         NonDeduced<Scalar>* lipschitz_denominator) {
-  switch (params.heads) {
-    case 1:
-      return aggregate_dispatch<Scalar, 1>(params, graph, projected, zstride, norms, begin, end, out, ostride,
-                                           alpha, scratch, lipschitz_denominator);
-    case 2:
-      return aggregate_dispatch<Scalar, 2>(params, graph, projected, zstride, norms, begin, end, out, ostride,
-                                           alpha, scratch, lipschitz_denominator);
-    case 4:
-      return aggregate_dispatch<Scalar, 4>(params, graph, projected, zstride, norms, begin, end, out, ostride,
-                                           alpha, scratch, lipschitz_denominator);
-    case 8:
-      return aggregate_dispatch<Scalar, 8>(params, graph, projected, zstride, norms, begin, end, out, ostride,
-                                           alpha, scratch, lipschitz_denominator);
-    default:
-      return aggregate_dispatch<Scalar, 0>(params, graph, projected, zstride, norms, begin, end, out, ostride,
-                                           alpha, scratch, lipschitz_denominator);
-  }
+void PLEAT_KERNEL_ENTRY(attention_aggregate)(const AggregateCall<double>& call) {
+  aggregate(call);
 }
 
-template void attention_node_norms(const AttentionParamsT<float>&, const float*, Index, int32_t, int32_t,
-                                   float*);
-template void attention_node_norms(const AttentionParamsT<double>&, const double*, Index, int32_t, int32_t,
-                                   double*);
-template void attention_aggregate(const AttentionParamsT<float>&, const AttentionGraph&, const float*, Index,
-                                  const float*, int32_t, int32_t, float*, Index, float*, float*, float*);
-template void attention_aggregate(const AttentionParamsT<double>&, const AttentionGraph&, const double*,
-                                  Index, const double*, int32_t, int32_t, double*, Index, double*, double*,
-                                  double*);
-
-}  // namespace pleat::nn
+}  // namespace pleat::nn::kernels
