@@ -32,7 +32,7 @@ MatrixRM random_matrix(Index rows, Index cols, std::mt19937& rng) {
 
 TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
   const KernelPath initial = kernel_path();
-  const auto kernels = pleat::test::runnable_kernel_paths();
+  const auto kernels = pleat_test::runnable_kernel_paths();
   ASSERT_FALSE(kernels.empty());
   std::mt19937 rng(5);
   for (const Shape& s : kShapes) {
@@ -64,7 +64,7 @@ TEST(NnGemm, BothKernelsMatchADoubleReferenceOnTheNetworksShapes) {
 }
 
 TEST(NnGemm, TheBestKernelIsTheDefault) {
-  const auto kernels = pleat::test::runnable_kernel_paths();
+  const auto kernels = pleat_test::runnable_kernel_paths();
   EXPECT_EQ(kernel_path(), kernels.back()) << kernel_path_name(kernel_path());
   EXPECT_TRUE(set_kernel_path(KernelPath::baseline)) << "every x86-64 CPU runs the baseline";
   set_kernel_path(kernels.back());

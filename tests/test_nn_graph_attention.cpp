@@ -263,7 +263,7 @@ TEST(NnGraphAttention, HandCheckedLeakyReluSoftmax) {
 // Both kernel paths (baseline and AVX2, nn/kernel_path.h) on every variant,
 // head count, merge mode and the scalar and SIMD widths.
 TEST(NnGraphAttention, MatchesNaiveReferenceAllVariants) {
-  test::for_each_kernel_path([](nn::KernelPath) {
+  pleat_test::for_each_kernel_path([](nn::KernelPath) {
     std::mt19937 rng(7);
     for (int trial = 0; trial < 3; ++trial) {
       const Graph g = random_graph(14, 0.3, rng);

@@ -420,7 +420,7 @@ void expect_matches(nn::AttentionVariant variant, int32_t body_vertex_stride = 1
   const Poses p = motion();
   const PoseSequence poses{p.rotations.data(), p.roots.data(), kFrames, kJoints, kFps};
   // Every kernel path this CPU runs (nn/kernel_path.h) meets the same reference.
-  test::for_each_kernel_path([&](nn::KernelPath) {
+  pleat_test::for_each_kernel_path([&](nn::KernelPath) {
     InstanceOptions options;
     Instance instance(model, garment, body, options);
     ASSERT_EQ(instance.top_k(), 2);

@@ -1,15 +1,13 @@
 #pragma once
-// Element-wise activations applied in place on float buffers. Eigen's array
-// functions vectorise (tanh and exp use Eigen's SIMD approximations, within a
-// few ulp of std::tanh / std::exp).
-#include <Eigen/Core>
+// Element-wise activations applied in place on float buffers, on the kernel
+// path of nn/kernel_path.h (nn/kernels/activation_eigen.cpp: Eigen's SIMD
+// tanh and exp, within a few ulp of std::tanh / std::exp).
 #include <cstdint>
 
+#include "nn/kernel_params.h"
 #include "nn/tensor.h"
 
 namespace pleat::nn {
-
-enum class ActivationKind : int32_t { identity = 0, tanh = 1, relu = 2, leaky_relu = 3, elu = 4 };
 
 struct Activation {
   ActivationKind kind = ActivationKind::identity;
@@ -23,25 +21,9 @@ struct Activation {
   static Activation elu(float alpha = 1.0f) { return {ActivationKind::elu, alpha}; }
 };
 
-inline void apply_activation(const Activation& act, float* data, Index count) {
-  Eigen::Map<Eigen::ArrayXf> a(data, count);
-  switch (act.kind) {
-    case ActivationKind::identity: return;
-    case ActivationKind::tanh: a = a.tanh(); return;
-    case ActivationKind::relu: a = a.max(0.0f); return;
-    case ActivationKind::leaky_relu: a = (a > 0.0f).select(a, a * act.parameter); return;
-    case ActivationKind::elu: a = (a > 0.0f).select(a, act.parameter * (a.exp() - 1.0f)); return;
-  }
-}
+void apply_activation(const Activation& act, float* data, Index count);
 
 // A matrix view, row by row (rows may be strided).
-inline void apply_activation(const Activation& act, MatrixRef m) {
-  if (act.kind == ActivationKind::identity) return;
-  if (m.outerStride() == m.cols()) {
-    apply_activation(act, m.data(), m.size());
-    return;
-  }
-  for (Index r = 0; r < m.rows(); ++r) apply_activation(act, m.row(r).data(), m.cols());
-}
+void apply_activation(const Activation& act, MatrixRef m);
 
 }  // namespace pleat::nn

@@ -6,7 +6,7 @@
 
 #include "nn/gemm.h"
 #include "nn/kernel_path.h"
-#include "nn/kernels/attention_kernel.h"
+#include "nn/kernels/entry_points.h"
 
 namespace pleat::nn {
 

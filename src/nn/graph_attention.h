@@ -27,7 +27,7 @@
 
 #include "core/mesh.h"
 #include "nn/activation.h"
-#include "nn/attention_params.h"
+#include "nn/kernel_params.h"
 #include "nn/parallel.h"
 #include "nn/tensor.h"
 
@@ -82,7 +82,7 @@ struct GraphAttentionLayer {
 };
 
 // The raw-buffer kernel (everything after the GEMM) takes AttentionParamsT
-// (nn/attention_params.h). It exists for float (the runtime, training) and
+// (nn/kernel_params.h). It exists for float (the runtime, training) and
 // double (gradient checks of the trainer's backward).
 // Pointer arguments take their scalar type from the params (so nullptr binds).
 template <typename T>

@@ -8,27 +8,27 @@
 
 #include "nn/kernel_path.h"
 
-namespace pleat::test {
+namespace pleat_test {
 
 // The paths this CPU runs, baseline first (the default is the last).
-inline std::vector<nn::KernelPath> runnable_kernel_paths() {
-  const nn::KernelPath initial = nn::kernel_path();
-  std::vector<nn::KernelPath> paths;
-  for (nn::KernelPath p : {nn::KernelPath::baseline, nn::KernelPath::avx2})
-    if (nn::set_kernel_path(p)) paths.push_back(p);
-  nn::set_kernel_path(initial);
+inline std::vector<pleat::nn::KernelPath> runnable_kernel_paths() {
+  const pleat::nn::KernelPath initial = pleat::nn::kernel_path();
+  std::vector<pleat::nn::KernelPath> paths;
+  for (pleat::nn::KernelPath p : {pleat::nn::KernelPath::baseline, pleat::nn::KernelPath::avx2})
+    if (pleat::nn::set_kernel_path(p)) paths.push_back(p);
+  pleat::nn::set_kernel_path(initial);
   return paths;
 }
 
 template <typename Body>
 void for_each_kernel_path(Body&& body) {
-  const nn::KernelPath initial = nn::kernel_path();
-  for (nn::KernelPath path : runnable_kernel_paths()) {
-    ASSERT_TRUE(nn::set_kernel_path(path));
-    SCOPED_TRACE(nn::kernel_path_name(path));
+  const pleat::nn::KernelPath initial = pleat::nn::kernel_path();
+  for (pleat::nn::KernelPath path : runnable_kernel_paths()) {
+    ASSERT_TRUE(pleat::nn::set_kernel_path(path));
+    SCOPED_TRACE(pleat::nn::kernel_path_name(path));
     body(path);
   }
-  nn::set_kernel_path(initial);
+  pleat::nn::set_kernel_path(initial);
 }
 
-}  // namespace pleat::test
+}  // namespace pleat_test

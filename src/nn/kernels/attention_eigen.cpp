@@ -2,9 +2,9 @@
 // node, specialised at compile time by head count, variant and merge mode,
 // and compiled once per instruction set (nn/kernels/eigen_renamed.h).
 #include "nn/kernels/eigen_renamed.h"
-// Only plain data from pleat (nn/attention_params.h): nothing the linker
+// Only plain data from pleat (nn/kernel_params.h): nothing the linker
 // could merge with the other build.
-#include "nn/kernels/attention_kernel.h"
+#include "nn/kernels/entry_points.h"
 
 namespace pleat::nn::kernels {
 namespace {

@@ -1,7 +1,9 @@
 // Eigen's own GEMM for C = A B on row-major float matrices, compiled once per
 // instruction set (nn/kernels/eigen_renamed.h; nn/gemm.cpp picks one at run
-// time). The interface is plain pointers: no other pleat header is included.
+// time).
 #include "nn/kernels/eigen_renamed.h"
+// Only plain declarations from pleat: nothing the linker could merge.
+#include "nn/kernels/entry_points.h"
 
 using Matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using ConstView = Eigen::Map<const Matrix, 0, Eigen::OuterStride<>>;

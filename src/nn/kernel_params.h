@@ -1,16 +1,18 @@
 #pragma once
-// The parameters of the fused attention kernel (nn/graph_attention.h) as plain
-// data: no Eigen, no inline functions. The kernel's per-instruction-set
-// builds (nn/kernels/attention_eigen.cpp) include this header and must not
-// see anything the linker could merge across builds.
+// What the network's per-instruction-set kernels (nn/kernels) take, as plain
+// data: no Eigen, no inline functions. Their builds include this header and
+// must not see anything the linker could merge across builds.
 #include <cstdint>
 
 namespace pleat::nn {
+
+enum class ActivationKind : int32_t { identity = 0, tanh = 1, relu = 2, leaky_relu = 3, elu = 4 };
 
 enum class HeadMerge : int32_t { concat = 0, mean = 1 };
 
 constexpr int32_t kMaxAttentionHeads = 16;
 
+// The fused attention aggregation (nn/graph_attention.h).
 template <typename Scalar>
 struct AttentionParamsT {
   int32_t heads = 1;
