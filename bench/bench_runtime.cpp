@@ -220,5 +220,32 @@ int main(int argc, char** argv) {
     if (plain == 0.0) plain = t;
     std::printf("%-28s %9.3f %7.3f\n", name, t * 1e3, t / plain);
   }
+
+  // The refinement's level of detail (pleat_evaluate_options.
+  // refinement_interval), on the plain model, 2 threads, against the full
+  // stage every frame and the blend-shape stage (no refinement) in the same run.
+  std::printf("\nrefinement interval, N = %d, 2 threads, batch of 8 (ms/frame; ratio to every frame)\n",
+              garment->rest.vertex_count());
+  InstanceOptions two;
+  two.threads = 2;
+  two.max_batch = 8;
+  Instance lod(model, garment, body, two);
+  std::vector<float> lod_out(size_t(8) * lod.vertex_count() * 3);
+  EvaluateOutputs lod_outputs;
+  lod_outputs.positions = {lod_out.data(), size_t(lod.vertex_count()) * 3};
+  const double blend =
+      pleat_bench::median_seconds(
+          [&] { lod.evaluate(poses, frames - 16, 8, Stage::blend_shapes, lod_outputs); }, reps) /
+      8.0;
+  double every = 0.0;
+  for (int interval : {1, 2, 4, 8}) {
+    const double t =
+        pleat_bench::median_seconds(
+            [&] { lod.evaluate(poses, frames - 16, 8, Stage::refinement, lod_outputs, interval); }, reps) /
+        8.0;
+    if (every == 0.0) every = t;
+    std::printf("  every %d frame(s) %9.3f %7.3f  (%.0f fps)\n", interval, t * 1e3, t / every, 1.0 / t);
+  }
+  std::printf("  blend shapes only %9.3f %7.3f\n", blend * 1e3, blend / every);
   return 0;
 }

@@ -150,6 +150,76 @@ TEST(CapiModel, ResultsDependOnlyOnThePoses) {
   EXPECT_EQ(evaluate(two.get(), poses, 0, 9, PLEAT_STAGE_FULL), reference);
 }
 
+// refinement_interval k: frames t with t % k == 0 are the full model's own;
+// the frames after hold that frame's refinement offsets, turned with the
+// character's heading, over their own skinned positions (the blend-shape
+// stage's output), whatever the split into calls.
+TEST(CapiModel, RefinementIntervalHoldsTheOffsetsInTheHeadingFrame) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  constexpr size_t kFrames = 11;
+  constexpr uint32_t kInterval = 3;
+  Poses poses;  // the root turns about +Y (the heading) and walks
+  for (size_t f = 0; f < kFrames; ++f) {
+    const float half = 0.5f * 0.15f * static_cast<float>(f);
+    poses.rotations.insert(poses.rotations.end(), {0.0f, std::sin(half), 0.0f, std::cos(half)});
+    for (uint32_t j = 1; j < kJoints; ++j)
+      poses.rotations.insert(poses.rotations.end(), {0.0f, 0.0f, 0.0f, 1.0f});
+    poses.roots.insert(poses.roots.end(), {0.02f * f, kJointPositions[1], 0.01f * f});
+  }
+  InstancePtr instance = bind(model.get(), garment.get(), body.get(), 1, 4);
+  const std::vector<float> full = evaluate(instance.get(), poses, 0, kFrames, PLEAT_STAGE_FULL);
+  const std::vector<float> skinned = evaluate(instance.get(), poses, 0, kFrames, PLEAT_STAGE_BLEND_SHAPES);
+  const auto held = [&](size_t first, size_t count, uint32_t interval) {
+    std::vector<float> positions(count * full.size() / kFrames, -1.0f);
+    pleat_evaluate_options o = stage_options(PLEAT_STAGE_FULL);
+    o.refinement_interval = interval;
+    const pleat_evaluate_outputs out = positions_into(positions.data());
+    const pleat_poses p = poses.view();
+    EXPECT_EQ(pleat_instance_evaluate(instance.get(), &p, first, count, &o, &out), PLEAT_OK)
+        << pleat_last_error();
+    return positions;
+  };
+  const std::vector<float> got = held(0, kFrames, kInterval);
+  const size_t n = full.size() / kFrames / 3;
+  double refinement = 0.0, hold_differs = 0.0;
+  for (size_t t = 0; t < kFrames; ++t) {
+    const size_t t0 = t - t % kInterval;
+    // Heading of frame t: 0.15 t rad about +Y; the offset turns by the difference.
+    const float turn = 0.15f * static_cast<float>(t) - 0.15f * static_cast<float>(t0);
+    const float c = std::cos(turn), s = std::sin(turn);
+    for (size_t v = 0; v < n; ++v) {
+      const size_t at = (t * n + v) * 3, at0 = (t0 * n + v) * 3;
+      const float dx = full[at0] - skinned[at0], dy = full[at0 + 1] - skinned[at0 + 1],
+                  dz = full[at0 + 2] - skinned[at0 + 2];
+      const float want[3] = {skinned[at] + c * dx + s * dz, skinned[at + 1] + dy,
+                             skinned[at + 2] - s * dx + c * dz};
+      for (int k = 0; k < 3; ++k) {
+        if (t == t0) {
+          ASSERT_EQ(got[at + k], full[at + k]) << "refined frame " << t << " vertex " << v;
+        }
+        EXPECT_NEAR(got[at + k], want[k], 2e-6f) << "frame " << t << " vertex " << v;
+        refinement = std::max(refinement, std::abs(double(full[at + k]) - skinned[at + k]));
+        if (t != t0) hold_differs = std::max(hold_differs, std::abs(double(got[at + k]) - full[at + k]));
+      }
+    }
+  }
+  EXPECT_GT(refinement, 1e-4) << "the refinement moves the garment, so the test can see a hold";
+  EXPECT_GT(hold_differs, 1e-6) << "held frames are not the full model's own";
+  // A call that starts inside an interval, and interval 0 (= 1).
+  EXPECT_EQ(held(4, 6, kInterval), std::vector<float>(got.begin() + 4 * n * 3, got.begin() + 10 * n * 3));
+  EXPECT_EQ(held(0, kFrames, 0), full);
+  pleat_evaluate_options o = stage_options(PLEAT_STAGE_FULL);
+  o.refinement_interval = 1u << 21;
+  std::vector<float> sink(full.size());
+  const pleat_evaluate_outputs out = positions_into(sink.data());
+  const pleat_poses p = poses.view();
+  EXPECT_EQ(pleat_instance_evaluate(instance.get(), &p, 0, 1, &o, &out), PLEAT_ERROR_INVALID_ARGUMENT);
+  EXPECT_NE(std::string(pleat_last_error()).find("refinement_interval"), std::string::npos)
+      << pleat_last_error();
+}
+
 TEST(CapiModel, BandOutputsSplitThePositionsOfAPreparedGarment) {
   BodyPtr body = chain_body();
   ModelPtr model = initialised(body.get());

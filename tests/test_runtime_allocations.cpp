@@ -79,6 +79,11 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
     instance.evaluate(poses, 3, frames - 3, stage, out);
     EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "stage " << int(stage);
   }
+  {  // a held refinement, starting inside an interval
+    const long before = pleat_test::allocation_count();
+    instance.evaluate(poses, 4, frames - 4, Stage::refinement, out, 3);
+    EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "refinement interval 3";
+  }
   // The counter works: binding allocates.
   const long before = pleat_test::allocation_count();
   Instance another(model, garment, body, io);

@@ -335,6 +335,13 @@ typedef struct pleat_poses {
 typedef struct pleat_evaluate_options {
   uint32_t struct_size;
   uint32_t stage; /* PLEAT_STAGE_*; 0 = full */
+  /* Full stage: the refinement network runs on frames t with t % k == 0 only;
+     the k - 1 frames after each hold its offsets (in the character's heading
+     frame) over their own skinned positions. 0 or 1 = every frame. A level of
+     detail: the refinement is most of a frame's cost (docs/runtime.md). A
+     frame's result still depends only on the poses and k. */
+  uint32_t refinement_interval;
+  uint32_t reserved;
 } pleat_evaluate_options;
 
 /* Where evaluation writes; any output whose data is NULL is not computed.

@@ -1,5 +1,6 @@
 // C entry points for instances: bind a model to a garment and a body, then
 // evaluate frames into caller buffers.
+#include <algorithm>
 #include <limits>
 
 #include "capi/firewall.h"
@@ -12,22 +13,21 @@ using namespace pleat::capi;
 namespace {
 
 int32_t checked_count(uint32_t value, uint32_t limit, const char* field) {
-  PLEAT_REQUIRE(value <= limit, std::string("'pleat_instance_options.") + field + "' " +
-                                    std::to_string(value) + " is above " + std::to_string(limit));
+  PLEAT_REQUIRE(value <= limit, std::string("'") + field + "' " + std::to_string(value) + " is above " +
+                                    std::to_string(limit));
   return static_cast<int32_t>(value);
 }
 
 runtime::InstanceOptions instance_options(const pleat_instance_options* options) {
   const auto o = read_options(options, "pleat_instance_options");
   runtime::InstanceOptions result;
-  if (o.threads) result.threads = checked_count(o.threads, 256, "threads");
-  result.top_k = checked_count(o.top_k, 1u << 20, "top_k");
-  if (o.max_batch) result.max_batch = checked_count(o.max_batch, 4096, "max_batch");
+  if (o.threads) result.threads = checked_count(o.threads, 256, "pleat_instance_options.threads");
+  result.top_k = checked_count(o.top_k, 1u << 20, "pleat_instance_options.top_k");
+  if (o.max_batch) result.max_batch = checked_count(o.max_batch, 4096, "pleat_instance_options.max_batch");
   return result;
 }
 
-runtime::Stage stage_of(const pleat_evaluate_options* options) {
-  const auto o = read_options(options, "pleat_evaluate_options");
+runtime::Stage stage_of(const pleat_evaluate_options& o) {
   switch (o.stage) {
     case PLEAT_STAGE_FULL:
     case PLEAT_STAGE_REFINEMENT: return runtime::Stage::refinement;
@@ -62,7 +62,11 @@ void evaluate(runtime::Instance& in, const runtime::PoseSequence& poses, size_t 
   out.low = output(o.low, "low", n * 3);
   out.mid = output(o.mid, "mid", n * 3);
   out.high = output(o.high, "high", n * 3);
-  in.evaluate(poses, static_cast<int64_t>(first), static_cast<int64_t>(count), stage_of(options), out);
+  const auto settings = read_options(options, "pleat_evaluate_options");
+  const int32_t interval =
+      checked_count(settings.refinement_interval, 1u << 20, "pleat_evaluate_options.refinement_interval");
+  in.evaluate(poses, static_cast<int64_t>(first), static_cast<int64_t>(count), stage_of(settings), out,
+              std::max(interval, 1));
 }
 
 }  // namespace

@@ -126,6 +126,7 @@ struct Instance::State {
   MatrixRM skinned[2];                  // N x 3: M̃ of the current and the previous frame
   MatrixRM normals;                     // N x 3
   MatrixRM refinement_in;               // N x refinement input
+  MatrixRM refined;                     // N x 3: Δ of the last refined frame (heading frame, filtered)
   StackBuffers stacks;
   std::vector<int32_t> chosen_joint;  // max_batch x N x k (model joints)
   std::vector<float> chosen_weight;   // max_batch x N x k
@@ -136,7 +137,8 @@ struct Instance::State {
   void check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const;
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
                   int32_t* joints_out);
-  void refine_frame(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot, float* out);
+  void refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot);
+  void add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const;
   void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
 };
 
@@ -196,6 +198,7 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   skinned[1].resize(n, 3);
   normals.resize(n, 3);
   refinement_in.resize(n, m.refinement.in_width());
+  refined.resize(n, 3);
   stacks.reserve(m.blend, binding->graph);
   stacks.reserve(m.refinement, binding->graph);
   const size_t chosen = static_cast<size_t>(max_batch) * static_cast<size_t>(n) * static_cast<size_t>(top_k);
@@ -297,11 +300,11 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
   }
 }
 
-// M^t = M̃^t + refinement_scale * H_t Δ^t into `out` (N x 3), from
+// Δ^t into `refined` (heading frame, offset filter applied) from
 // skinned[slot] and the previous frame's M̃ (null: the clip's first frame,
 // velocity 0).
-void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
-                                   float* out) {
+void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous,
+                                     int slot) {
   const Model& m = *model;
   const MatrixRM& current = skinned[slot];
   vertex_normals(current.data(), n, garment->rest.triangles, normals.data());
@@ -317,11 +320,20 @@ void Instance::State::refine_frame(const PoseSequence& poses, int64_t t, const M
     }
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });
-  run_stack(m.refinement, binding->graph, refinement_in, offsets, stacks, *executor);
-  if (binding->offset_filter) binding->offset_filter->apply(offsets.data(), 1);
+  run_stack(m.refinement, binding->graph, refinement_in, refined, stacks, *executor);
+  if (binding->offset_filter) binding->offset_filter->apply(refined.data(), 1);
+}
+
+// M^t = M̃^t + refinement_scale * H_t Δ into `out` (N x 3), with M̃^t in
+// skinned[slot] and Δ in `refined` (frame t's own, or the last refined
+// frame's when the refinement is held).
+void Instance::State::add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const {
+  const Model& m = *model;
+  const MatrixRM& current = skinned[slot];
+  const Eigen::Matrix3f heading = features.heading(poses, t).cast<float>();
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
-      const Eigen::Vector3f delta = heading * offsets.row(v).transpose();
+      const Eigen::Vector3f delta = heading * refined.row(v).transpose();
       for (int c = 0; c < 3; ++c) out[v * 3 + c] = current(v, c) + m.refinement_scale * delta[c];
     }
   });
@@ -380,7 +392,7 @@ Instance::Instance(std::shared_ptr<const Model> model, std::shared_ptr<const Gar
 Instance::~Instance() = default;
 
 void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                        const EvaluateOutputs& outputs) {
+                        const EvaluateOutputs& outputs, int32_t refinement_interval) {
   State& s = *state_;
   const Model& m = *s.model;
   if (stage != Stage::skinning && stage != Stage::blend_shapes && stage != Stage::refinement)
@@ -394,6 +406,8 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
   if (first < 0 || count < 0 || first > poses.frame_count || count > poses.frame_count - first)
     bad("frames [" + std::to_string(first) + ", " + std::to_string(first + count) + ") are outside the " +
         std::to_string(poses.frame_count) + " frames of the poses");
+  if (refinement_interval < 1)
+    bad("evaluate: refinement interval is " + std::to_string(refinement_interval) + ", expected >= 1");
   if (count == 0) return;
   if (!poses.rotations || !poses.root_positions) bad("poses rotations and root_positions must not be null");
   if ((outputs.low.data || outputs.mid.data || outputs.high.data) && !s.garment->prepared)
@@ -407,14 +421,24 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
   if (outputs.skinning_weights.data && outputs.skinning_weights.stride < static_cast<size_t>(s.n) * s.joints)
     bad("the skinning weights' stride is below the N x S floats of a frame");
 
-  // History: the motion window of the first frame (and, for the refinement's
+  const bool refine = stage == Stage::refinement;
+  // The refined frame whose offsets the call's first frame holds (itself
+  // unless the call starts inside an interval).
+  const int64_t interval = refine ? refinement_interval : 1;
+  const int64_t first_refined = first - first % interval;
+  // History: the motion window of that frame (and, for the refinement's
   // velocity, of the frame before it) reaches back window frames.
-  const int64_t history = stage == Stage::refinement ? s.window + 1 : s.window;
-  s.check_poses(poses, std::max<int64_t>(0, first - history), first + count);
+  const int64_t history = refine ? s.window + 1 : s.window;
+  s.check_poses(poses, std::max<int64_t>(0, first_refined - history), first + count);
 
   const SingleThreadedBlas blas;  // one BLAS thread: the instance's pool owns the cores
-  const bool refine = stage == Stage::refinement;
   const size_t k = static_cast<size_t>(s.top_k);
+  if (first_refined < first) {  // Δ of that earlier frame, as if evaluated in sequence
+    if (first_refined > 0)
+      s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
+    s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data());
+    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0);
+  }
   int previous_slot = -1;  // skinned[] slot holding M̃ of the frame before, once known
   // The frame before the call's first one: its M̃ is needed for velocities.
   if (refine && first > 0) {
@@ -430,7 +454,8 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       s.skin_frame(poses, t, stage, slot, s.chosen_weight.data() + chosen, s.chosen_joint.data() + chosen);
       float* staged = s.staged.row(b).data();
       if (refine) {
-        s.refine_frame(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot, staged);
+        if (t % interval == 0) s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot);
+        s.add_refinement(poses, t, slot, staged);
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);
       }

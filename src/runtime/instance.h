@@ -66,8 +66,11 @@ class Instance {
   // frame range, frame rate != model's, non-finite or non-unit rotation: frame
   // and joint named), NOT_PREPARED (band outputs on an unprepared garment),
   // NUMERICAL (a non-finite output; nothing is written for that batch).
+  // refinement_interval k >= 1 (refinement stage): the refinement runs on
+  // frames t with t % k == 0 and its offsets, in the heading frame, are held
+  // over the skinned positions of the k - 1 frames after (docs/runtime.md).
   void evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                const EvaluateOutputs& outputs);
+                const EvaluateOutputs& outputs, int32_t refinement_interval = 1);
 
   int32_t vertex_count() const;
   int32_t joint_count() const;
