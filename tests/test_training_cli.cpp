@@ -5,10 +5,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/error.h"
 #include "runtime/model_file.h"
+#include "runtime/model_init.h"
 #include "support/synthetic_sequence.h"
 #include "support/test_support.h"
 #include "trainer.h"
@@ -210,6 +213,102 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(refused.find("training config '" + root + "/config.json': no training sequence"),
             std::string::npos)
       << refused;
+}
+
+// `pleat bench`: every host setting on the test split with its run time and
+// Table I metrics, libtorch on the same weights and LBS, the Pareto front
+// marked; the numbers are the ones `pleat-train evaluate` reports.
+TEST(TrainingCli, BenchMeasuresEverySettingAgainstTheGroundTruth) {
+  const std::string root = pleat_test::temp_dir("training_bench");
+  pleat_test::write_skirt_walk(root + "/set");
+  std::ofstream(root + "/set/splits.json") << R"({"train": ["skirt_walk"], "validation": [],
+      "test": ["skirt_walk"]})";
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
+  std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
+      "epochs": 1, "batch_frames": 16, "progress": false, "plot": false,
+      "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
+                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  std::string text, report;
+  ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
+  const std::string trainer = std::filesystem::path(cli()).parent_path().string() + "/pleat-train";
+  ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --splits test --model " +
+                                        root + "/run/model.pleat 2>/dev/null",
+                                    &report),
+            0);
+  ASSERT_EQ(pleat_test::run_command(cli() + " bench " + root + "/config.json --model " + root +
+                                        "/run/model.pleat -o " + root + "/bench --repeats 1 --threads 1 2>&1",
+                                    &text),
+            0)
+      << text;
+  std::ifstream csv(root + "/bench/bench.csv");
+  std::map<std::string, std::vector<double>>
+      rows;  // "engine,setting" -> ms, E_verts, E_mid, E_high, E_curv, pareto
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "engine,setting,ms_per_frame,e_verts_cm,e_mid_cm,e_high_cm,e_curv,pareto");
+  while (std::getline(csv, line)) {
+    const size_t close = line.find("\",");
+    ASSERT_NE(close, std::string::npos) << line;
+    std::vector<double> values;
+    std::stringstream rest(line.substr(close + 2));
+    for (std::string v; std::getline(rest, v, ',');) values.push_back(std::stod(v));
+    ASSERT_EQ(values.size(), 6u) << line;
+    rows[line.substr(0, line.find(',')) + ":" + line.substr(line.find('"') + 1, close - line.find('"') - 1)] =
+        values;
+  }
+  ASSERT_EQ(rows.size(), 10u) << "eight runtime settings, libtorch, LBS";
+  for (const auto& [name, v] : rows) EXPECT_GT(v[0], 0.0) << name << ": a time per frame";
+  // The default setting and LBS score what evaluate reports for them.
+  const auto reported = [&](const std::string& label) {
+    const size_t at = report.find("| " + label + " | ");
+    return at == std::string::npos ? -1.0 : std::stod(report.substr(at + label.size() + 5));
+  };
+  const std::vector<double>& full = rows["pleat:full (default)"];
+  const std::vector<double>& lbs = rows["LBS:nearest body weights, reference loop (1 thread, double)"];
+  ASSERT_FALSE(full.empty() || lbs.empty()) << text;
+  EXPECT_NEAR(full[1], reported("model"), 5e-4) << report;
+  EXPECT_NEAR(lbs[1], reported("LBS (nearest body weights)"), 5e-4) << report;
+  EXPECT_NE(rows["pleat:full, top-2 skinning"][1], full[1]) << "top-2 skins differently";
+  EXPECT_NE(rows["pleat:skinning stage"][1], full[1]);
+  // libtorch runs the same weights (exact softmax instead of top-4): close, not equal.
+  const std::vector<double>& torch_row = rows["libtorch:full stage, exact softmax (trainer's forward)"];
+  ASSERT_FALSE(torch_row.empty()) << text;
+  EXPECT_NEAR(torch_row[1], full[1], 0.1 * full[1]);
+  // Pareto: the fastest row and the most accurate row are on the front, and a
+  // row that another beats on both is not.
+  std::string fastest, most_accurate;
+  for (const auto& [name, v] : rows) {
+    if (fastest.empty() || v[0] < rows[fastest][0]) fastest = name;
+    if (most_accurate.empty() || v[1] < rows[most_accurate][1]) most_accurate = name;
+    bool dominated = false;
+    for (const auto& [other, o] : rows)
+      dominated =
+          dominated || (other != name && o[0] <= v[0] && o[1] <= v[1] && (o[0] < v[0] || o[1] < v[1]));
+    EXPECT_EQ(v[5], dominated ? 0.0 : 1.0) << name;
+  }
+  EXPECT_EQ(rows[fastest][5], 1.0) << fastest;
+  EXPECT_EQ(rows[most_accurate][5], 1.0) << most_accurate;
+  std::ifstream md(root + "/bench/bench.md");
+  const std::string markdown((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(markdown.find("| pleat | full (default) | "), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("kernel path"), std::string::npos) << "the machine line names the kernel path";
+  std::ifstream png(root + "/bench/bench.png", std::ios::binary);
+  char magic[8] = {};
+  png.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the plot";
+
+  // A model for another skeleton cannot drive the set's body: exit 2, named.
+  const auto other = pleat::runtime::initialize_model(
+      pleat::runtime::ModelSkeleton{{"root", "tail"}, {-1, 0}}, {}, pleat::runtime::ModelInitOptions{});
+  pleat::runtime::save_model(*other, root + "/other.pleat");
+  EXPECT_EQ(pleat_test::run_command(cli() + " bench " + root + "/config.json --model " + root +
+                                        "/other.pleat -o " + root + "/other 2>&1",
+                                    &text),
+            2)
+      << text;
+  EXPECT_NE(text.find("cannot drive sequence"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(root + "/other/bench.csv")) << "nothing written";
 }
 
 // "dataset" may name several sets: their splits are joined in order, and

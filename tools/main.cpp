@@ -36,6 +36,8 @@ const char* kUsage =
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
     "  export config.json -o m.pleat    the kept epoch as a model file (pleat-train)\n"
     "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
+    "  bench config.json --model M -o DIR  run time against error on the test split: every\n"
+    "                                   host setting, libtorch and LBS (pleat-train; docs/benchmarks.md)\n"
     "  datagen config.json [--jobs N]   simulate a training data set in Blender (docs/datagen.md;\n"
     "                                   runs pleat-datagen; --help for its options)\n"
     "  version                          print the library version\n";
@@ -61,7 +63,7 @@ int main(int argc, char** argv) {
     if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
     if (command == "init-model") return run_init_model(parse_args(argc, argv, 2, {}));
     if (command == "bake") return run_bake(parse_args(argc, argv, 2, {}));
-    if (command == "train" || command == "export" || command == "ablation")
+    if (command == "train" || command == "export" || command == "ablation" || command == "bench")
       return run_companion("pleat-train",
                            "configure with -DPLEAT_BUILD_TRAINING=ON and libtorch-dev installed", argc, argv,
                            1);

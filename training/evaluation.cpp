@@ -62,32 +62,35 @@ double worst_ratio(const MetricsResult& model, const MetricsResult& baseline) {
   return worst;
 }
 
+NearestWeightsLbs::NearestWeightsLbs(const TrainingSequence& s)
+    : sequence_(s),
+      weights_(nearest_vertex_weights(s.body, s.garment->rest.vertices)),
+      rest_global_(rest_transforms(s.body.skeleton)),
+      pose_(static_cast<size_t>(s.body.joint_count())) {}
+
+void NearestWeightsLbs::frames(int64_t first, int64_t count, float* out) {
+  const TrainingSequence& s = sequence_;
+  const Points3d& rest = s.garment->rest.vertices;
+  const int32_t joints = s.body.joint_count();
+  for (int64_t f = first; f < first + count; ++f) {
+    for (int32_t j = 0; j < joints; ++j) {
+      const float* q = s.rotations.data() + (f * joints + j) * 4;
+      pose_[static_cast<size_t>(j)] = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
+    }
+    const float* root = s.root_positions.data() + f * 3;
+    forward_kinematics(s.body.skeleton, pose_.data(), Eigen::Vector3d(root[0], root[1], root[2]), &global_);
+    skinning_matrices(global_, rest_global_, &matrices_);
+    posed_.resize(rest.rows(), 3);
+    linear_blend_skinning(rest, weights_, matrices_, &posed_);
+    for (Eigen::Index i = 0; i < posed_.size(); ++i) *out++ = static_cast<float>(posed_.data()[i]);
+  }
+}
+
 MetricsResult lbs_baseline(const Dataset& data) {
   MetricsResult total;
   for (const TrainingSequence& s : data.sequences()) {
-    const Body& body = s.body;
-    const Points3d& rest = s.garment->rest.vertices;
-    const SkinWeights weights = nearest_vertex_weights(body, rest);
-    const Transforms rest_global = rest_transforms(body.skeleton);
-    const int32_t joints = body.joint_count();
-    std::vector<float> predicted;
-    Quaternions pose(static_cast<size_t>(joints));
-    Transforms global;
-    SkinMatrices matrices;
-    Points3d posed;
-    for (int64_t f = 0; f < s.frame_count(); ++f) {
-      for (int32_t j = 0; j < joints; ++j) {
-        const float* q = s.rotations.data() + (f * joints + j) * 4;
-        pose[static_cast<size_t>(j)] = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
-      }
-      const float* root = s.root_positions.data() + f * 3;
-      forward_kinematics(body.skeleton, pose.data(), Eigen::Vector3d(root[0], root[1], root[2]), &global);
-      skinning_matrices(global, rest_global, &matrices);
-      posed.resize(rest.rows(), 3);
-      linear_blend_skinning(rest, weights, matrices, &posed);
-      for (Eigen::Index i = 0; i < posed.size(); ++i)
-        predicted.push_back(static_cast<float>(posed.data()[i]));
-    }
+    std::vector<float> predicted(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
+    NearestWeightsLbs(s).frames(0, s.frame_count(), predicted.data());
     accumulate(&total, sequence_metrics(s, predicted.data()));
   }
   return total;

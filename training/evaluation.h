@@ -5,6 +5,7 @@
 // the paper's comparison.
 #include <vector>
 
+#include "body/skinning.h"
 #include "dataset.h"
 #include "metrics/metrics.h"
 
@@ -17,7 +18,23 @@ MetricsResult sequence_metrics(const TrainingSequence& s, const float* predicted
 void accumulate(MetricsResult* total, const MetricsResult& m);
 
 // Every garment vertex skinned with the skin weights of its nearest rest body
-// vertex (no network): the "LBS" row of the comparison tables.
+// vertex (no network): the "LBS" row of the comparison tables. Binding (the
+// nearest-vertex search) happens at construction, so frames() is what a
+// renderer's LBS would cost per frame.
+class NearestWeightsLbs {
+ public:
+  explicit NearestWeightsLbs(const TrainingSequence& s);
+  // Frames [first, first + count) of the sequence's poses: count x N x 3 floats.
+  void frames(int64_t first, int64_t count, float* out);
+
+ private:
+  const TrainingSequence& sequence_;
+  SkinWeights weights_;
+  Transforms rest_global_, global_;
+  Quaternions pose_;
+  SkinMatrices matrices_;
+  Points3d posed_;
+};
 MetricsResult lbs_baseline(const Dataset& data);
 
 // The noise floor: each sequence's simulation scored against its twin's

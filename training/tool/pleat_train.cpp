@@ -17,6 +17,11 @@
 //                                                default_top_k or K joints per vertex); the test
 //                                                split also into seen / held-out garments; then
 //                                                one `summary:` line per model and split
+//   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
+//                     [--repeats N] [--no-libtorch]
+//                                                run time against error on one split: the runtime
+//                                                under each host setting, libtorch on the same
+//                                                weights and LBS; DIR/bench.md, bench.csv, bench.png
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -28,6 +33,7 @@
 #include <string>
 
 #include "ablation.h"
+#include "bench.h"
 #include "core/error.h"
 #include "evaluation.h"
 #include "io/atomic_file.h"
@@ -43,6 +49,8 @@ const char* kUsage =
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
     "[--top-k K] [--splits train,validation,test] [-o report.md]\n"
+    "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
+    "[--repeats N] [--no-libtorch]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -236,6 +244,66 @@ int evaluate(int argc, char** argv) {
   return 0;
 }
 
+int bench(int argc, char** argv) {
+  if (argc < 3) throw std::invalid_argument("bench needs a config file");
+  const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
+  std::string model_path, output, split = "test";
+  pleat::training::BenchOptions options;
+  const auto count = [&](int& i, const char* flag) {
+    const int value = std::stoi(argv[++i]);
+    if (value < 1) throw std::invalid_argument(std::string(flag) + " needs a count of at least 1");
+    return value;
+  };
+  for (int i = 3; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
+      model_path = argv[++i];
+    } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
+      output = argv[++i];
+    } else if (std::strcmp(argv[i], "--split") == 0 && i + 1 < argc) {
+      split = argv[++i];
+      if (split != "train" && split != "validation" && split != "test")
+        throw std::invalid_argument("--split takes train, validation or test, not '" + split + "'");
+    } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+      options.threads = count(i, "--threads");
+    } else if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
+      options.repeats = count(i, "--repeats");
+    } else if (std::strcmp(argv[i], "--no-libtorch") == 0) {
+      options.libtorch = false;
+    } else {
+      throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
+    }
+  }
+  if (model_path.empty() || output.empty()) throw std::invalid_argument("bench needs --model and -o");
+  const std::vector<std::string>& dirs = split == "train"        ? c.train
+                                         : split == "validation" ? c.validation
+                                                                 : c.test;
+  if (dirs.empty()) throw std::invalid_argument("the config names no " + split + " sequences");
+  const auto model = pleat::runtime::load_model_file(model_path);
+  std::fprintf(stderr, "bench: %s on the %s split (%zu sequences)\n", model_path.c_str(), split.c_str(),
+               dirs.size());
+  const pleat::training::Dataset data(dirs);
+  const pleat::training::BenchReport report =
+      pleat::training::run_bench(data, model, pleat::training::default_bench_settings(), options);
+  const std::string md = "# Run time against error: " + std::filesystem::path(model_path).stem().string() +
+                         ", " + split + " split\n\n" + pleat::training::bench_markdown(report);
+  std::fputs(md.c_str(), stdout);
+  std::filesystem::create_directories(output);
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"bench.md", md},
+                                   {"bench.csv", pleat::training::bench_csv(report)}}) {
+    pleat::AtomicFile f(output + "/" + name);
+    f.write(text);
+    f.commit();
+  }
+  // A warning, not a failure: the numbers are written whether or not a plot exists.
+  const std::string plot = "/usr/bin/python3 '" PLEAT_SCRIPTS_DIR "/plot_bench.py' '" + output +
+                           "/bench.csv' '" + output + "/bench.png'";
+  if (std::system(plot.c_str()) != 0)
+    std::fprintf(stderr, "pleat-train bench: could not plot %s/bench.png (needs python3-matplotlib)\n",
+                 output.c_str());
+  std::fprintf(stderr, "wrote %s/bench.md, bench.csv, bench.png\n", output.c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -246,6 +314,7 @@ int main(int argc, char** argv) {
     if (command == "ablation") return ablation(argc, argv);
     if (command == "baseline") return evaluate(argc, argv);  // evaluate without a model
     if (command == "evaluate") return evaluate(argc, argv);
+    if (command == "bench") return bench(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
   } catch (const pleat::Error& e) {

@@ -1,0 +1,237 @@
+#include "bench.h"
+
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "evaluation.h"
+#include "network.h"
+#include "nn/kernel_path.h"
+
+namespace pleat::training {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+// Times `pass` (one full pass over the data, writing predictions) `repeats`
+// times after a warm-up pass; returns the median seconds.
+template <typename Pass>
+double timed(int32_t repeats, const Pass& pass) {
+  pass();
+  std::vector<double> t;
+  for (int32_t r = 0; r < repeats; ++r) {
+    const auto start = Clock::now();
+    pass();
+    t.push_back(seconds_since(start));
+  }
+  return median(t);
+}
+
+std::string machine_line(int32_t threads) {
+  std::string cpu = "unknown CPU", load = "?";
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  for (std::string line; std::getline(cpuinfo, line);)
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  std::ifstream loadavg("/proc/loadavg");
+  std::getline(loadavg, load);
+  return cpu + "; load average " + load.substr(0, load.find(' ', load.find(' ', load.find(' ') + 1) + 1)) +
+         "; kernel path " + nn::kernel_path_name(nn::kernel_path()) + "; threads: " + std::to_string(threads);
+}
+
+// The runtime under one setting: predictions of every sequence, then metrics.
+BenchRow runtime_row(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                     const BenchSetting& setting, const BenchOptions& options) {
+  runtime::InstanceOptions io;
+  io.threads = options.threads;
+  io.top_k = setting.top_k;
+  io.max_batch = options.batch_frames;
+  std::vector<std::unique_ptr<runtime::Instance>> instances;
+  std::vector<std::vector<float>> predicted;
+  for (const TrainingSequence& s : data.sequences()) {
+    try {
+      instances.push_back(std::make_unique<runtime::Instance>(model, s.garment, s.body, io));
+    } catch (const Error& e) {
+      if (e.status() != PLEAT_ERROR_INVALID_ARGUMENT) throw;
+      throw std::invalid_argument("model '" + model->source + "' cannot drive sequence '" + s.dir +
+                                  "': " + e.what());
+    }
+    predicted.emplace_back(static_cast<size_t>(s.frame_count() * instances.back()->vertex_count() * 3));
+  }
+  const double seconds = timed(options.repeats, [&] {
+    for (size_t i = 0; i < instances.size(); ++i) {
+      const TrainingSequence& s = data.sequences()[i];
+      const runtime::PoseSequence poses = s.poses();
+      const int64_t n = instances[i]->vertex_count();
+      for (int64_t f = 0; f < s.frame_count(); f += options.batch_frames) {
+        runtime::EvaluateOutputs out;
+        out.positions = {predicted[i].data() + f * n * 3, static_cast<size_t>(n * 3)};
+        instances[i]->evaluate(poses, f, std::min<int64_t>(options.batch_frames, s.frame_count() - f),
+                               setting.stage, out, setting.refinement_interval);
+      }
+    }
+  });
+  BenchRow row{"pleat", setting.name, 1e3 * seconds / double(data.frame_count()), {}, false};
+  for (size_t i = 0; i < instances.size(); ++i)
+    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
+  return row;
+}
+
+// The trainer's network on the same weights, forward only, batches of
+// batch_frames frames. Its forward re-encodes the garment and the body on
+// every call (the trainer's weights change between calls); that is part of
+// what it costs here.
+BenchRow libtorch_row(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                      const BenchOptions& options) {
+  torch::NoGradGuard no_grad;
+  const int previous_threads = torch::get_num_threads();
+  torch::set_num_threads(options.threads);
+  Network network(*model);
+  network->eval();
+  std::vector<std::unique_ptr<BoundGarment>> bound;
+  std::vector<std::vector<float>> predicted;
+  for (const TrainingSequence& s : data.sequences()) {
+    bound.push_back(std::make_unique<BoundGarment>(*model, s.garment, s.body));
+    predicted.emplace_back(static_cast<size_t>(s.frame_count() * bound.back()->vertex_count() * 3));
+  }
+  const double seconds = timed(options.repeats, [&] {
+    for (size_t i = 0; i < bound.size(); ++i) {
+      const TrainingSequence& s = data.sequences()[i];
+      const int64_t n = bound[i]->vertex_count();
+      for (int64_t f = 0; f < s.frame_count(); f += options.batch_frames) {
+        std::vector<int64_t> frames;
+        for (int64_t k = f; k < std::min<int64_t>(s.frame_count(), f + options.batch_frames); ++k)
+          frames.push_back(k);
+        const torch::Tensor x =
+            network->forward(*bound[i], s.poses(), frames, runtime::Stage::refinement).positions.contiguous();
+        std::copy(x.data_ptr<float>(), x.data_ptr<float>() + x.numel(), predicted[i].data() + f * n * 3);
+      }
+    }
+  });
+  torch::set_num_threads(previous_threads);
+  BenchRow row{"libtorch",
+               "full stage, exact softmax (trainer's forward)",
+               1e3 * seconds / double(data.frame_count()),
+               {},
+               false};
+  for (size_t i = 0; i < bound.size(); ++i)
+    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
+  return row;
+}
+
+BenchRow lbs_row(const Dataset& data, const BenchOptions& options) {
+  std::vector<std::unique_ptr<NearestWeightsLbs>> lbs;
+  std::vector<std::vector<float>> predicted;
+  for (const TrainingSequence& s : data.sequences()) {
+    lbs.push_back(std::make_unique<NearestWeightsLbs>(s));
+    predicted.emplace_back(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
+  }
+  const double seconds = timed(options.repeats, [&] {
+    for (size_t i = 0; i < lbs.size(); ++i)
+      lbs[i]->frames(0, data.sequences()[i].frame_count(), predicted[i].data());
+  });
+  BenchRow row{"LBS",
+               "nearest body weights, reference loop (1 thread, double)",
+               1e3 * seconds / double(data.frame_count()),
+               {},
+               false};
+  for (size_t i = 0; i < lbs.size(); ++i)
+    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
+  return row;
+}
+
+void mark_pareto(std::vector<BenchRow>& rows) {
+  for (BenchRow& r : rows) {
+    r.pareto = true;
+    for (const BenchRow& o : rows) {
+      const bool no_worse = o.ms_per_frame <= r.ms_per_frame && o.metrics.e_verts_cm <= r.metrics.e_verts_cm;
+      const bool better = o.ms_per_frame < r.ms_per_frame || o.metrics.e_verts_cm < r.metrics.e_verts_cm;
+      if (&o != &r && no_worse && better) r.pareto = false;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<BenchSetting> default_bench_settings() {
+  using runtime::Stage;
+  return {{"full (default)", Stage::refinement, 0, 1},
+          {"full, refinement every 2nd frame", Stage::refinement, 0, 2},
+          {"full, refinement every 4th frame", Stage::refinement, 0, 4},
+          {"full, refinement every 8th frame", Stage::refinement, 0, 8},
+          {"full, top-2 skinning", Stage::refinement, 2, 1},
+          {"full, top-8 skinning", Stage::refinement, 8, 1},
+          {"blend-shape stage", Stage::blend_shapes, 0, 1},
+          {"skinning stage", Stage::skinning, 0, 1}};
+}
+
+BenchReport run_bench(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                      const std::vector<BenchSetting>& settings, const BenchOptions& options) {
+  if (data.sequences().empty()) throw std::invalid_argument("bench needs at least one sequence");
+  if (options.threads < 1 || options.repeats < 1 || options.batch_frames < 1)
+    throw std::invalid_argument("bench threads, repeats and batch frames must be at least 1");
+  BenchReport report;
+  report.machine = machine_line(options.threads);
+  report.frames = data.frame_count();
+  for (const TrainingSequence& s : data.sequences()) report.vertices += s.garment->rest.vertex_count();
+  report.vertices /= static_cast<int64_t>(data.sequences().size());
+  for (const BenchSetting& setting : settings) {
+    std::fprintf(stderr, "bench: pleat, %s\n", setting.name.c_str());
+    report.rows.push_back(runtime_row(data, model, setting, options));
+  }
+  if (options.libtorch) {
+    std::fprintf(stderr, "bench: libtorch\n");
+    report.rows.push_back(libtorch_row(data, model, options));
+  }
+  std::fprintf(stderr, "bench: LBS\n");
+  report.rows.push_back(lbs_row(data, options));
+  mark_pareto(report.rows);
+  return report;
+}
+
+std::string bench_markdown(const BenchReport& report) {
+  std::string out =
+      "Machine: " + report.machine + ". " + std::to_string(report.frames) + " frames, " +
+      std::to_string(report.vertices) + " garment vertices per frame.\n\n" +
+      "| engine | setting | ms/frame | fps | E_verts cm | E_mid cm | E_high cm | E_curv | Pareto |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|---|\n";
+  for (const BenchRow& r : report.rows) {
+    char line[512];
+    std::snprintf(line, sizeof line, "| %s | %s | %.3f | %.0f | %.3f | %.3f | %.3f | %.1f | %s |\n",
+                  r.engine.c_str(), r.setting.c_str(), r.ms_per_frame, 1e3 / r.ms_per_frame,
+                  r.metrics.e_verts_cm, r.metrics.e_mid_cm, r.metrics.e_high_cm, r.metrics.e_curv,
+                  r.pareto ? "yes" : "");
+    out += line;
+  }
+  return out;
+}
+
+std::string bench_csv(const BenchReport& report) {
+  std::string out = "engine,setting,ms_per_frame,e_verts_cm,e_mid_cm,e_high_cm,e_curv,pareto\n";
+  for (const BenchRow& r : report.rows) {
+    char line[512];
+    std::snprintf(line, sizeof line, "%s,\"%s\",%.6f,%.6f,%.6f,%.6f,%.6f,%d\n", r.engine.c_str(),
+                  r.setting.c_str(), r.ms_per_frame, r.metrics.e_verts_cm, r.metrics.e_mid_cm,
+                  r.metrics.e_high_cm, r.metrics.e_curv, r.pareto ? 1 : 0);
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace pleat::training
