@@ -27,20 +27,6 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-// Times `pass` (one full pass over the data, writing predictions) `repeats`
-// times after a warm-up pass; returns the median seconds.
-template <typename Pass>
-double timed(int32_t repeats, const Pass& pass) {
-  pass();
-  std::vector<double> t;
-  for (int32_t r = 0; r < repeats; ++r) {
-    const auto start = Clock::now();
-    pass();
-    t.push_back(seconds_since(start));
-  }
-  return median(t);
-}
-
 std::string machine_line(int32_t threads) {
   std::string cpu = "unknown CPU", load = "?";
   std::ifstream cpuinfo("/proc/cpuinfo");
@@ -55,106 +41,127 @@ std::string machine_line(int32_t threads) {
          "; kernel path " + nn::kernel_path_name(nn::kernel_path()) + "; threads: " + std::to_string(threads);
 }
 
-// The runtime under one setting: predictions of every sequence, then metrics.
-BenchRow runtime_row(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
-                     const BenchSetting& setting, const BenchOptions& options) {
-  runtime::InstanceOptions io;
-  io.threads = options.threads;
-  io.top_k = setting.top_k;
-  io.max_batch = options.batch_frames;
-  std::vector<std::unique_ptr<runtime::Instance>> instances;
-  std::vector<std::vector<float>> predicted;
-  for (const TrainingSequence& s : data.sequences()) {
-    try {
-      instances.push_back(std::make_unique<runtime::Instance>(model, s.garment, s.body, io));
-    } catch (const Error& e) {
-      if (e.status() != PLEAT_ERROR_INVALID_ARGUMENT) throw;
-      throw std::invalid_argument("model '" + model->source + "' cannot drive sequence '" + s.dir +
-                                  "': " + e.what());
-    }
-    predicted.emplace_back(static_cast<size_t>(s.frame_count() * instances.back()->vertex_count() * 3));
+// One row of the table: bound once (not timed), then timed passes, each
+// predicting every frame of every sequence into `predicted`.
+class Contender {
+ public:
+  Contender(std::string engine, std::string setting)
+      : engine_(std::move(engine)), setting_(std::move(setting)) {}
+  virtual ~Contender() = default;
+  virtual void pass(const Dataset& data) = 0;
+
+  BenchRow row(const Dataset& data, double seconds_per_pass) const {
+    BenchRow r{engine_, setting_, 1e3 * seconds_per_pass / double(data.frame_count()), {}, false};
+    for (size_t i = 0; i < predicted.size(); ++i)
+      accumulate(&r.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
+    return r;
   }
-  const double seconds = timed(options.repeats, [&] {
-    for (size_t i = 0; i < instances.size(); ++i) {
+
+ protected:
+  std::vector<std::vector<float>> predicted;  // per sequence: frames x N x 3
+
+ private:
+  std::string engine_, setting_;
+};
+
+// The runtime under one host setting, batches of batch_frames frames.
+class RuntimeContender : public Contender {
+ public:
+  RuntimeContender(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
+                   const BenchSetting& setting, const BenchOptions& options)
+      : Contender("pleat", setting.name), setting_(setting), batch_(options.batch_frames) {
+    runtime::InstanceOptions io;
+    io.threads = options.threads;
+    io.top_k = setting.top_k;
+    io.max_batch = options.batch_frames;
+    for (const TrainingSequence& s : data.sequences()) {
+      try {
+        instances_.push_back(std::make_unique<runtime::Instance>(model, s.garment, s.body, io));
+      } catch (const Error& e) {
+        if (e.status() != PLEAT_ERROR_INVALID_ARGUMENT) throw;
+        throw std::invalid_argument("model '" + model->source + "' cannot drive sequence '" + s.dir +
+                                    "': " + e.what());
+      }
+      predicted.emplace_back(static_cast<size_t>(s.frame_count() * instances_.back()->vertex_count() * 3));
+    }
+  }
+
+  void pass(const Dataset& data) override {
+    for (size_t i = 0; i < instances_.size(); ++i) {
       const TrainingSequence& s = data.sequences()[i];
       const runtime::PoseSequence poses = s.poses();
-      const int64_t n = instances[i]->vertex_count();
-      for (int64_t f = 0; f < s.frame_count(); f += options.batch_frames) {
+      const int64_t n = instances_[i]->vertex_count();
+      for (int64_t f = 0; f < s.frame_count(); f += batch_) {
         runtime::EvaluateOutputs out;
         out.positions = {predicted[i].data() + f * n * 3, static_cast<size_t>(n * 3)};
-        instances[i]->evaluate(poses, f, std::min<int64_t>(options.batch_frames, s.frame_count() - f),
-                               setting.stage, out, setting.refinement_interval);
+        instances_[i]->evaluate(poses, f, std::min<int64_t>(batch_, s.frame_count() - f), setting_.stage, out,
+                                setting_.refinement_interval);
       }
     }
-  });
-  BenchRow row{"pleat", setting.name, 1e3 * seconds / double(data.frame_count()), {}, false};
-  for (size_t i = 0; i < instances.size(); ++i)
-    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
-  return row;
-}
+  }
+
+ private:
+  BenchSetting setting_;
+  int64_t batch_;
+  std::vector<std::unique_ptr<runtime::Instance>> instances_;
+};
 
 // The trainer's network on the same weights, forward only, batches of
 // batch_frames frames. Its forward re-encodes the garment and the body on
 // every call (the trainer's weights change between calls); that is part of
 // what it costs here.
-BenchRow libtorch_row(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
-                      const BenchOptions& options) {
-  torch::NoGradGuard no_grad;
-  const int previous_threads = torch::get_num_threads();
-  torch::set_num_threads(options.threads);
-  Network network(*model);
-  network->eval();
-  std::vector<std::unique_ptr<BoundGarment>> bound;
-  std::vector<std::vector<float>> predicted;
-  for (const TrainingSequence& s : data.sequences()) {
-    bound.push_back(std::make_unique<BoundGarment>(*model, s.garment, s.body));
-    predicted.emplace_back(static_cast<size_t>(s.frame_count() * bound.back()->vertex_count() * 3));
+class LibtorchContender : public Contender {
+ public:
+  LibtorchContender(const Dataset& data, const runtime::Model& model, const BenchOptions& options)
+      : Contender("libtorch", "full stage, exact softmax (trainer's forward)"),
+        network_(model),
+        batch_(options.batch_frames) {
+    network_->eval();
+    for (const TrainingSequence& s : data.sequences()) {
+      bound_.push_back(std::make_unique<BoundGarment>(model, s.garment, s.body));
+      predicted.emplace_back(static_cast<size_t>(s.frame_count() * bound_.back()->vertex_count() * 3));
+    }
   }
-  const double seconds = timed(options.repeats, [&] {
-    for (size_t i = 0; i < bound.size(); ++i) {
+
+  void pass(const Dataset& data) override {
+    torch::NoGradGuard no_grad;
+    for (size_t i = 0; i < bound_.size(); ++i) {
       const TrainingSequence& s = data.sequences()[i];
-      const int64_t n = bound[i]->vertex_count();
-      for (int64_t f = 0; f < s.frame_count(); f += options.batch_frames) {
+      const int64_t n = bound_[i]->vertex_count();
+      for (int64_t f = 0; f < s.frame_count(); f += batch_) {
         std::vector<int64_t> frames;
-        for (int64_t k = f; k < std::min<int64_t>(s.frame_count(), f + options.batch_frames); ++k)
-          frames.push_back(k);
-        const torch::Tensor x =
-            network->forward(*bound[i], s.poses(), frames, runtime::Stage::refinement).positions.contiguous();
+        for (int64_t k = f; k < std::min<int64_t>(s.frame_count(), f + batch_); ++k) frames.push_back(k);
+        const torch::Tensor x = network_->forward(*bound_[i], s.poses(), frames, runtime::Stage::refinement)
+                                    .positions.contiguous();
         std::copy(x.data_ptr<float>(), x.data_ptr<float>() + x.numel(), predicted[i].data() + f * n * 3);
       }
     }
-  });
-  torch::set_num_threads(previous_threads);
-  BenchRow row{"libtorch",
-               "full stage, exact softmax (trainer's forward)",
-               1e3 * seconds / double(data.frame_count()),
-               {},
-               false};
-  for (size_t i = 0; i < bound.size(); ++i)
-    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
-  return row;
-}
-
-BenchRow lbs_row(const Dataset& data, const BenchOptions& options) {
-  std::vector<std::unique_ptr<NearestWeightsLbs>> lbs;
-  std::vector<std::vector<float>> predicted;
-  for (const TrainingSequence& s : data.sequences()) {
-    lbs.push_back(std::make_unique<NearestWeightsLbs>(s));
-    predicted.emplace_back(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
   }
-  const double seconds = timed(options.repeats, [&] {
-    for (size_t i = 0; i < lbs.size(); ++i)
-      lbs[i]->frames(0, data.sequences()[i].frame_count(), predicted[i].data());
-  });
-  BenchRow row{"LBS",
-               "nearest body weights, reference loop (1 thread, double)",
-               1e3 * seconds / double(data.frame_count()),
-               {},
-               false};
-  for (size_t i = 0; i < lbs.size(); ++i)
-    accumulate(&row.metrics, sequence_metrics(data.sequences()[i], predicted[i].data()));
-  return row;
-}
+
+ private:
+  Network network_;
+  int64_t batch_;
+  std::vector<std::unique_ptr<BoundGarment>> bound_;
+};
+
+class LbsContender : public Contender {
+ public:
+  explicit LbsContender(const Dataset& data)
+      : Contender("LBS", "nearest body weights, reference loop (1 thread, double)") {
+    for (const TrainingSequence& s : data.sequences()) {
+      lbs_.push_back(std::make_unique<NearestWeightsLbs>(s));
+      predicted.emplace_back(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
+    }
+  }
+
+  void pass(const Dataset& data) override {
+    for (size_t i = 0; i < lbs_.size(); ++i)
+      lbs_[i]->frames(0, data.sequences()[i].frame_count(), predicted[i].data());
+  }
+
+ private:
+  std::vector<std::unique_ptr<NearestWeightsLbs>> lbs_;
+};
 
 void mark_pareto(std::vector<BenchRow>& rows) {
   for (BenchRow& r : rows) {
@@ -171,12 +178,14 @@ void mark_pareto(std::vector<BenchRow>& rows) {
 
 std::vector<BenchSetting> default_bench_settings() {
   using runtime::Stage;
+  constexpr int32_t kEveryJoint = 1 << 20;  // clamped to the skeleton: the exact softmax
   return {{"full (default)", Stage::refinement, 0, 1},
           {"full, refinement every 2nd frame", Stage::refinement, 0, 2},
           {"full, refinement every 4th frame", Stage::refinement, 0, 4},
           {"full, refinement every 8th frame", Stage::refinement, 0, 8},
           {"full, top-2 skinning", Stage::refinement, 2, 1},
           {"full, top-8 skinning", Stage::refinement, 8, 1},
+          {"full, exact skinning (every joint)", Stage::refinement, kEveryJoint, 1},
           {"blend-shape stage", Stage::blend_shapes, 0, 1},
           {"skinning stage", Stage::skinning, 0, 1}};
 }
@@ -191,16 +200,29 @@ BenchReport run_bench(const Dataset& data, const std::shared_ptr<const runtime::
   report.frames = data.frame_count();
   for (const TrainingSequence& s : data.sequences()) report.vertices += s.garment->rest.vertex_count();
   report.vertices /= static_cast<int64_t>(data.sequences().size());
-  for (const BenchSetting& setting : settings) {
-    std::fprintf(stderr, "bench: pleat, %s\n", setting.name.c_str());
-    report.rows.push_back(runtime_row(data, model, setting, options));
+  const int torch_threads = torch::get_num_threads();
+  torch::set_num_threads(options.threads);
+  std::vector<std::unique_ptr<Contender>> contenders;
+  for (const BenchSetting& setting : settings)
+    contenders.push_back(std::make_unique<RuntimeContender>(data, model, setting, options));
+  if (options.libtorch) contenders.push_back(std::make_unique<LibtorchContender>(data, *model, options));
+  contenders.push_back(std::make_unique<LbsContender>(data));
+  // A warm-up pass each, then rounds that time every contender once: on a
+  // shared, noisy machine a slow spell then hits every row alike, and each
+  // row keeps its median over the rounds.
+  std::vector<std::vector<double>> seconds(contenders.size());
+  for (int32_t round = 0; round <= options.repeats; ++round) {
+    std::fprintf(stderr, "bench: %s %d of %d\n", round == 0 ? "warm-up" : "round", round == 0 ? 1 : round,
+                 round == 0 ? 1 : options.repeats);
+    for (size_t c = 0; c < contenders.size(); ++c) {
+      const auto start = Clock::now();
+      contenders[c]->pass(data);
+      if (round > 0) seconds[c].push_back(seconds_since(start));
+    }
   }
-  if (options.libtorch) {
-    std::fprintf(stderr, "bench: libtorch\n");
-    report.rows.push_back(libtorch_row(data, model, options));
-  }
-  std::fprintf(stderr, "bench: LBS\n");
-  report.rows.push_back(lbs_row(data, options));
+  torch::set_num_threads(torch_threads);
+  for (size_t c = 0; c < contenders.size(); ++c)
+    report.rows.push_back(contenders[c]->row(data, median(seconds[c])));
   mark_pareto(report.rows);
   return report;
 }

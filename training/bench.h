@@ -23,13 +23,13 @@ struct BenchSetting {
   int32_t refinement_interval = 1;
 };
 
-// The settings a bench measures by default: the three stages, top-k 2 and 8,
-// refinement every 2nd, 4th and 8th frame.
+// The settings a bench measures by default: the three stages, top-k 2, 8
+// and every joint, refinement every 2nd, 4th and 8th frame.
 std::vector<BenchSetting> default_bench_settings();
 
 struct BenchOptions {
   int32_t threads = 2;       // the runtime's and libtorch's
-  int32_t repeats = 3;       // timed passes over the data; the median counts
+  int32_t repeats = 5;       // timed rounds over every row; each row keeps its median
   int32_t batch_frames = 8;  // frames per evaluate call
   bool libtorch = true;      // time the trainer's network too
 };
