@@ -239,10 +239,13 @@ int main(int argc, char** argv) {
       8.0;
   double every = 0.0;
   for (int interval : {1, 2, 4, 8}) {
-    const double t =
-        pleat_bench::median_seconds(
-            [&] { lod.evaluate(poses, frames - 16, 8, Stage::refinement, lod_outputs, interval); }, reps) /
-        8.0;
+    const double t = pleat_bench::median_seconds(
+                         [&] {
+                           lod.evaluate(poses, frames - 16, 8, Stage::refinement, lod_outputs,
+                                        RefinementDetail{interval, {}});
+                         },
+                         reps) /
+                     8.0;
     if (every == 0.0) every = t;
     std::printf("  every %d frame(s) %9.3f %7.3f  (%.0f fps)\n", interval, t * 1e3, t / every, 1.0 / t);
   }

@@ -220,6 +220,66 @@ TEST(CapiModel, RefinementIntervalHoldsTheOffsetsInTheHeadingFrame) {
       << pleat_last_error();
 }
 
+// band_attenuation a removes a of each band of the refinement's offsets. The
+// band split is linear, so the high band of those offsets is the high band
+// of the full output minus that of the blend-shape output (both from the
+// band outputs): attenuated = full - a (high(full) - high(blend)).
+TEST(CapiModel, BandAttenuationRemovesBandsOfTheRefinement) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  const float step[3] = {0.02f, 0.0f, 0.01f};
+  const float turn[4] = {0.0f, std::sin(0.3f), 0.0f, std::cos(0.3f)};
+  const Poses poses = root_motion(6, step, turn);
+  const pleat_poses p = poses.view();
+  const size_t n = garment_mesh().vertex_count(), floats = 6 * n * 3;
+  const auto run = [&](pleat_instance* instance, uint32_t stage, float low, float mid, float high,
+                       std::vector<float>* high_band = nullptr) {
+    std::vector<float> positions(floats, -1.0f);
+    pleat_evaluate_options o = stage_options(stage);
+    o.band_attenuation[0] = low, o.band_attenuation[1] = mid, o.band_attenuation[2] = high;
+    pleat_evaluate_outputs out = positions_into(positions.data());
+    if (high_band) {
+      high_band->assign(floats, -1.0f);
+      out.high = {high_band->data(), 0};
+    }
+    const pleat_status status = pleat_instance_evaluate(instance, &p, 0, 6, &o, &out);
+    return status == PLEAT_OK ? positions : std::vector<float>{static_cast<float>(status)};
+  };
+  InstancePtr unprepared = bind(model.get(), garment.get(), body.get());
+  EXPECT_EQ(run(unprepared.get(), PLEAT_STAGE_FULL, 0, 0, 1), std::vector<float>{PLEAT_ERROR_NOT_PREPARED});
+  EXPECT_NE(std::string(pleat_last_error()).find("prepare"), std::string::npos) << pleat_last_error();
+
+  ASSERT_EQ(pleat_garment_prepare(garment.get(), nullptr), PLEAT_OK) << pleat_last_error();
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  std::vector<float> high_full, high_blend;
+  const std::vector<float> full = run(instance.get(), PLEAT_STAGE_FULL, 0, 0, 0, &high_full);
+  const std::vector<float> blend = run(instance.get(), PLEAT_STAGE_BLEND_SHAPES, 0, 0, 0, &high_blend);
+  ASSERT_EQ(full.size(), floats);
+  double refinement_high = 0.0;
+  for (float a : {1.0f, 0.5f}) {
+    const std::vector<float> got = run(instance.get(), PLEAT_STAGE_FULL, 0, 0, a);
+    ASSERT_EQ(got.size(), floats) << pleat_last_error();
+    for (size_t i = 0; i < floats; ++i) {
+      const float removed = high_full[i] - high_blend[i];
+      EXPECT_NEAR(got[i], full[i] - a * removed, 2e-6f) << "attenuation " << a << " float " << i;
+      refinement_high = std::max(refinement_high, std::abs(double(removed)));
+    }
+  }
+  EXPECT_GT(refinement_high, 1e-5) << "the refinement has a high band to remove";
+  // Every band removed: the refinement is gone, the blend-shape stage is left.
+  const std::vector<float> none = run(instance.get(), PLEAT_STAGE_FULL, 1, 1, 1);
+  ASSERT_EQ(none.size(), floats);
+  for (size_t i = 0; i < floats; ++i) EXPECT_NEAR(none[i], blend[i], 2e-6f) << i;
+  // Out of range or not a number: refused, named.
+  for (float bad : {1.5f, -0.1f, NAN}) {
+    EXPECT_EQ(run(instance.get(), PLEAT_STAGE_FULL, 0, 0, bad),
+              std::vector<float>{PLEAT_ERROR_INVALID_ARGUMENT});
+    EXPECT_NE(std::string(pleat_last_error()).find("band_attenuation[2]' (high)"), std::string::npos)
+        << pleat_last_error();
+  }
+}
+
 TEST(CapiModel, BandOutputsSplitThePositionsOfAPreparedGarment) {
   BodyPtr body = chain_body();
   ModelPtr model = initialised(body.get());

@@ -79,10 +79,13 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
     instance.evaluate(poses, 3, frames - 3, stage, out);
     EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "stage " << int(stage);
   }
-  {  // a held refinement, starting inside an interval
+  {  // a held refinement with an attenuated band, starting inside an interval
     const long before = pleat_test::allocation_count();
-    instance.evaluate(poses, 4, frames - 4, Stage::refinement, out, 3);
-    EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "refinement interval 3";
+    RefinementDetail detail;
+    detail.interval = 3;
+    detail.band_attenuation[2] = 0.5f;
+    instance.evaluate(poses, 4, frames - 4, Stage::refinement, out, detail);
+    EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "refinement interval 3, high band halved";
   }
   // The counter works: binding allocates.
   const long before = pleat_test::allocation_count();

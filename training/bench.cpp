@@ -95,7 +95,7 @@ class RuntimeContender : public Contender {
         runtime::EvaluateOutputs out;
         out.positions = {predicted[i].data() + f * n * 3, static_cast<size_t>(n * 3)};
         instances_[i]->evaluate(poses, f, std::min<int64_t>(batch_, s.frame_count() - f), setting_.stage, out,
-                                setting_.refinement_interval);
+                                setting_.detail);
       }
     }
   }
@@ -179,15 +179,18 @@ void mark_pareto(std::vector<BenchRow>& rows) {
 std::vector<BenchSetting> default_bench_settings() {
   using runtime::Stage;
   constexpr int32_t kEveryJoint = 1 << 20;  // clamped to the skeleton: the exact softmax
-  return {{"full (default)", Stage::refinement, 0, 1},
-          {"full, refinement every 2nd frame", Stage::refinement, 0, 2},
-          {"full, refinement every 4th frame", Stage::refinement, 0, 4},
-          {"full, refinement every 8th frame", Stage::refinement, 0, 8},
-          {"full, top-2 skinning", Stage::refinement, 2, 1},
-          {"full, top-8 skinning", Stage::refinement, 8, 1},
-          {"full, exact skinning (every joint)", Stage::refinement, kEveryJoint, 1},
-          {"blend-shape stage", Stage::blend_shapes, 0, 1},
-          {"skinning stage", Stage::skinning, 0, 1}};
+  const runtime::RefinementDetail every{1, {}};
+  return {{"full (default)", Stage::refinement, 0, every},
+          {"full, refinement every 2nd frame", Stage::refinement, 0, {2, {}}},
+          {"full, refinement every 4th frame", Stage::refinement, 0, {4, {}}},
+          {"full, refinement every 8th frame", Stage::refinement, 0, {8, {}}},
+          {"full, refinement's high band dropped", Stage::refinement, 0, {1, {0.0f, 0.0f, 1.0f}}},
+          {"full, refinement's mid and high bands dropped", Stage::refinement, 0, {1, {0.0f, 1.0f, 1.0f}}},
+          {"full, top-2 skinning", Stage::refinement, 2, every},
+          {"full, top-8 skinning", Stage::refinement, 8, every},
+          {"full, exact skinning (every joint)", Stage::refinement, kEveryJoint, every},
+          {"blend-shape stage", Stage::blend_shapes, 0, every},
+          {"skinning stage", Stage::skinning, 0, every}};
 }
 
 BenchReport run_bench(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,

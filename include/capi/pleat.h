@@ -341,7 +341,12 @@ typedef struct pleat_evaluate_options {
      detail: the refinement is most of a frame's cost (docs/runtime.md). A
      frame's result still depends only on the poses and k. */
   uint32_t refinement_interval;
-  uint32_t reserved;
+  /* Full stage: how much of each frequency band (low, mid, high) of the
+     refinement's offsets to remove, 0 (keep: the default) to 1 (drop); a
+     spectral level of detail, e.g. {0, 0, 1} removes the finest wrinkles of
+     a garment seen from afar. Needs a prepared garment
+     (PLEAT_ERROR_NOT_PREPARED otherwise) when any entry is above 0. */
+  float band_attenuation[3];
 } pleat_evaluate_options;
 
 /* Where evaluation writes; any output whose data is NULL is not computed.

@@ -63,10 +63,19 @@ void evaluate(runtime::Instance& in, const runtime::PoseSequence& poses, size_t 
   out.mid = output(o.mid, "mid", n * 3);
   out.high = output(o.high, "high", n * 3);
   const auto settings = read_options(options, "pleat_evaluate_options");
-  const int32_t interval =
-      checked_count(settings.refinement_interval, 1u << 20, "pleat_evaluate_options.refinement_interval");
+  runtime::RefinementDetail detail;
+  detail.interval = std::max(
+      checked_count(settings.refinement_interval, 1u << 20, "pleat_evaluate_options.refinement_interval"), 1);
+  const char* band_names[3] = {"low", "mid", "high"};
+  for (int b = 0; b < 3; ++b) {
+    const float a = settings.band_attenuation[b];
+    PLEAT_REQUIRE(a >= 0.0f && a <= 1.0f, std::string("'pleat_evaluate_options.band_attenuation[") +
+                                              std::to_string(b) + "]' (" + band_names[b] + ") is " +
+                                              std::to_string(a) + ", expected 0..1");
+    detail.band_attenuation[b] = a;
+  }
   in.evaluate(poses, static_cast<int64_t>(first), static_cast<int64_t>(count), stage_of(settings), out,
-              std::max(interval, 1));
+              detail);
 }
 
 }  // namespace

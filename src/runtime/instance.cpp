@@ -127,6 +127,7 @@ struct Instance::State {
   MatrixRM normals;                     // N x 3
   MatrixRM refinement_in;               // N x refinement input
   MatrixRM refined;                     // N x 3: Δ of the last refined frame (heading frame, filtered)
+  MatrixRM refined_bands[3];            // N x 3 each: low, mid, high of Δ (prepared garment only)
   StackBuffers stacks;
   std::vector<int32_t> chosen_joint;  // max_batch x N x k (model joints)
   std::vector<float> chosen_weight;   // max_batch x N x k
@@ -137,7 +138,8 @@ struct Instance::State {
   void check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const;
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
                   int32_t* joints_out);
-  void refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot);
+  void refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
+                      const float* band_attenuation);
   void add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const;
   void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
 };
@@ -206,6 +208,7 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   chosen_weight.resize(chosen);
   staged.resize(max_batch, static_cast<Index>(n) * 3);
   if (g.prepared) {
+    for (MatrixRM& band : refined_bands) band.resize(n, 3);
     // One split of a full batch grows the scratch to its final size.
     MatrixRM probe = MatrixRM::Zero(max_batch, static_cast<Index>(n) * 3);
     MatrixRM sink(max_batch, static_cast<Index>(n) * 3);
@@ -300,11 +303,12 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
   }
 }
 
-// Δ^t into `refined` (heading frame, offset filter applied) from
+// Δ^t into `refined` (heading frame, offset filter applied, bands
+// attenuated) from
 // skinned[slot] and the previous frame's M̃ (null: the clip's first frame,
 // velocity 0).
-void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous,
-                                     int slot) {
+void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
+                                     const float* band_attenuation) {
   const Model& m = *model;
   const MatrixRM& current = skinned[slot];
   vertex_normals(current.data(), n, garment->rest.triangles, normals.data());
@@ -322,6 +326,15 @@ void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const
   });
   run_stack(m.refinement, binding->graph, refinement_in, refined, stacks, *executor);
   if (binding->offset_filter) binding->offset_filter->apply(refined.data(), 1);
+  if (band_attenuation[0] > 0.0f || band_attenuation[1] > 0.0f || band_attenuation[2] > 0.0f) {
+    // Band split is linear per coordinate, so it commutes with the heading
+    // rotation applied later.
+    const size_t floats = static_cast<size_t>(n) * 3;
+    split_bands(garment->prepared->bands, refined.data(), 1, floats, refined_bands[0].data(), floats,
+                refined_bands[1].data(), floats, refined_bands[2].data(), floats, &band_scratch);
+    for (int b = 0; b < 3; ++b)
+      if (band_attenuation[b] > 0.0f) refined -= band_attenuation[b] * refined_bands[b];
+  }
 }
 
 // M^t = M̃^t + refinement_scale * H_t Δ into `out` (N x 3), with M̃^t in
@@ -392,7 +405,7 @@ Instance::Instance(std::shared_ptr<const Model> model, std::shared_ptr<const Gar
 Instance::~Instance() = default;
 
 void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                        const EvaluateOutputs& outputs, int32_t refinement_interval) {
+                        const EvaluateOutputs& outputs, const RefinementDetail& detail) {
   State& s = *state_;
   const Model& m = *s.model;
   if (stage != Stage::skinning && stage != Stage::blend_shapes && stage != Stage::refinement)
@@ -406,13 +419,23 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
   if (first < 0 || count < 0 || first > poses.frame_count || count > poses.frame_count - first)
     bad("frames [" + std::to_string(first) + ", " + std::to_string(first + count) + ") are outside the " +
         std::to_string(poses.frame_count) + " frames of the poses");
-  if (refinement_interval < 1)
-    bad("evaluate: refinement interval is " + std::to_string(refinement_interval) + ", expected >= 1");
+  if (detail.interval < 1)
+    bad("evaluate: refinement interval is " + std::to_string(detail.interval) + ", expected >= 1");
+  const char* band_names[3] = {"low", "mid", "high"};
+  for (int b = 0; b < 3; ++b)
+    if (!(detail.band_attenuation[b] >= 0.0f && detail.band_attenuation[b] <= 1.0f))
+      bad(std::string("evaluate: the ") + band_names[b] + " band's attenuation is " +
+          std::to_string(detail.band_attenuation[b]) + ", expected 0..1");
+  const bool attenuate = detail.band_attenuation[0] > 0.0f || detail.band_attenuation[1] > 0.0f ||
+                         detail.band_attenuation[2] > 0.0f;
   if (count == 0) return;
   if (!poses.rotations || !poses.root_positions) bad("poses rotations and root_positions must not be null");
   if ((outputs.low.data || outputs.mid.data || outputs.high.data) && !s.garment->prepared)
     fail(PLEAT_ERROR_NOT_PREPARED,
          "band outputs need a prepared garment (pleat_garment_prepare before binding)");
+  if (attenuate && stage == Stage::refinement && !s.garment->prepared)
+    fail(PLEAT_ERROR_NOT_PREPARED,
+         "band attenuation needs a prepared garment (pleat_garment_prepare before binding)");
   const size_t frame_floats = static_cast<size_t>(s.n) * 3;
   for (const OutputBuffer* o :
        {&outputs.positions, &outputs.normals, &outputs.low, &outputs.mid, &outputs.high})
@@ -424,7 +447,7 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
   const bool refine = stage == Stage::refinement;
   // The refined frame whose offsets the call's first frame holds (itself
   // unless the call starts inside an interval).
-  const int64_t interval = refine ? refinement_interval : 1;
+  const int64_t interval = refine ? detail.interval : 1;
   const int64_t first_refined = first - first % interval;
   // History: the motion window of that frame (and, for the refinement's
   // velocity, of the frame before it) reaches back window frames.
@@ -437,7 +460,8 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
     if (first_refined > 0)
       s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
     s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data());
-    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0);
+    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0,
+                     detail.band_attenuation);
   }
   int previous_slot = -1;  // skinned[] slot holding M̃ of the frame before, once known
   // The frame before the call's first one: its M̃ is needed for velocities.
@@ -454,7 +478,9 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       s.skin_frame(poses, t, stage, slot, s.chosen_weight.data() + chosen, s.chosen_joint.data() + chosen);
       float* staged = s.staged.row(b).data();
       if (refine) {
-        if (t % interval == 0) s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot);
+        if (t % interval == 0)
+          s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot,
+                           detail.band_attenuation);
         s.add_refinement(poses, t, slot, staged);
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);

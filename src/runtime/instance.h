@@ -49,6 +49,17 @@ struct EvaluateOutputs {
   OutputBuffer low, mid, high;    // band split of the positions (prepared garment only)
 };
 
+// The refinement's level of detail (refinement stage; docs/runtime.md).
+struct RefinementDetail {
+  // k >= 1: the refinement runs on frames t with t % k == 0 and its offsets,
+  // in the heading frame, are held over the skinned positions of the k - 1
+  // frames after.
+  int32_t interval = 1;
+  // Fraction of the offsets' low, mid and high band removed, each in [0, 1]
+  // (needs a prepared garment when any is above 0).
+  float band_attenuation[3] = {0.0f, 0.0f, 0.0f};
+};
+
 class Instance {
  public:
   // Throws pleat::Error: INVALID_ARGUMENT when the body cannot drive the model
@@ -66,11 +77,8 @@ class Instance {
   // frame range, frame rate != model's, non-finite or non-unit rotation: frame
   // and joint named), NOT_PREPARED (band outputs on an unprepared garment),
   // NUMERICAL (a non-finite output; nothing is written for that batch).
-  // refinement_interval k >= 1 (refinement stage): the refinement runs on
-  // frames t with t % k == 0 and its offsets, in the heading frame, are held
-  // over the skinned positions of the k - 1 frames after (docs/runtime.md).
   void evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                const EvaluateOutputs& outputs, int32_t refinement_interval = 1);
+                const EvaluateOutputs& outputs, const RefinementDetail& detail = {});
 
   int32_t vertex_count() const;
   int32_t joint_count() const;

@@ -222,7 +222,8 @@ SIZE(pleat_poses, 40);
 PIN(pleat_evaluate_options, struct_size, 0);
 PIN(pleat_evaluate_options, stage, 4);
 PIN(pleat_evaluate_options, refinement_interval, 8);
-SIZE(pleat_evaluate_options, 16);
+PIN(pleat_evaluate_options, band_attenuation, 12);
+SIZE(pleat_evaluate_options, 24);
 
 PIN(pleat_evaluate_outputs, struct_size, 0);
 PIN(pleat_evaluate_outputs, positions, 8);
