@@ -5,7 +5,7 @@ usage: plot_bench.py BENCH_CSV OUT_PNG
 
 x: ms per frame (log scale), y: E_verts in cm. One marker per row, coloured
 by engine; the Pareto front (no row both faster and more accurate) is joined
-by a line.
+by a line and labelled.
 """
 import csv
 import sys
@@ -25,11 +25,15 @@ def main():
     if not rows:
         sys.exit(f"{csv_path}: no rows")
     fig, ax = plt.subplots(figsize=(8, 5), dpi=100)
+    # Pareto rows are labelled in full; the others by their setting, small
+    # and grey, so that the front stays readable where settings crowd.
     for r in rows:
         x, y = float(r["ms_per_frame"]), float(r["e_verts_cm"])
         ax.scatter(x, y, color=COLOURS.get(r["engine"], "black"), zorder=3)
-        ax.annotate(f'{r["engine"]}: {r["setting"]}', (x, y), fontsize=7, xytext=(4, 3),
-                    textcoords="offset points")
+        on_front = r["pareto"] == "1"
+        ax.annotate(f'{r["engine"]}: {r["setting"]}' if on_front else r["setting"], (x, y),
+                    fontsize=7 if on_front else 6, color="black" if on_front else "grey",
+                    xytext=(4, 3) if on_front else (4, -9), textcoords="offset points")
     front = sorted((float(r["ms_per_frame"]), float(r["e_verts_cm"])) for r in rows if r["pareto"] == "1")
     ax.plot([p[0] for p in front], [p[1] for p in front], color="tab:red", linewidth=1, zorder=2,
             label="Pareto front")
