@@ -45,6 +45,19 @@ void expect_kept_epoch(const std::string& run, const std::string& model_file, in
       << model->training.schedule;
 }
 
+// A one-epoch run of a tiny model on `root`/set (whose splits.json the
+// caller writes), as `pleat train` leaves it: root/run/model.pleat.
+void train_tiny_model(const std::string& root) {
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
+  std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
+      "epochs": 1, "batch_frames": 16, "progress": false, "plot": false,
+      "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
+                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
+}
+
 }  // namespace
 
 TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
@@ -113,14 +126,8 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   pleat_test::write_skirt_walk(root + "/set", 0.025, "skirt_walk.twin");
   std::ofstream(root + "/set/splits.json") << R"({"train": ["skirt_walk"], "validation": [],
       "test": ["skirt_walk"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
-  std::ofstream(root + "/schedule.json")
-      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
-  std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
-      "epochs": 1, "batch_frames": 16, "progress": false, "plot": false,
-      "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
-                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  ASSERT_NO_FATAL_FAILURE(train_tiny_model(root));
   std::string text, baseline;
-  ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   const std::string trainer = std::filesystem::path(cli()).parent_path().string() + "/pleat-train";
   ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --model " + root +
                                         "/run/model.pleat -o " + root + "/report.md 2>&1",
@@ -223,14 +230,8 @@ TEST(TrainingCli, BenchMeasuresEverySettingAgainstTheGroundTruth) {
   pleat_test::write_skirt_walk(root + "/set");
   std::ofstream(root + "/set/splits.json") << R"({"train": ["skirt_walk"], "validation": [],
       "test": ["skirt_walk"]})";
-  std::ofstream(root + "/schedule.json")
-      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 100}}]})";
-  std::ofstream(root + "/config.json") << R"({"dataset": "set", "schedule": "schedule.json", "output": "run",
-      "epochs": 1, "batch_frames": 16, "progress": false, "plot": false,
-      "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
-                "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
+  ASSERT_NO_FATAL_FAILURE(train_tiny_model(root));
   std::string text, report;
-  ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   const std::string trainer = std::filesystem::path(cli()).parent_path().string() + "/pleat-train";
   ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root + "/config.json --splits test --model " +
                                         root + "/run/model.pleat 2>/dev/null",
