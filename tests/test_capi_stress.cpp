@@ -374,3 +374,77 @@ TEST(CapiStress, LongSequencesNeitherDriftNorGrow) {
   EXPECT_LE(worst, kBound);
   EXPECT_EQ(first_period, last_period) << "frames " << 10 * chunk << "+ and the last period differ";
 }
+
+// A clip recorded at 240 fps (e.g. optical capture) reaches the model through
+// pleat_motion_resample. Each 30 fps frame of clip A is held for eight frames
+// of clip B at 240 fps, so B resampled to 30 fps lands on A's frames exactly:
+// the garment must come out as A's, finite and bounded.
+TEST(CapiStress, A240FpsClipEvaluatesAsItsResampledFrames) {
+  const std::string dir = pleat_test::temp_dir("capi_stress_240fps");
+  const auto write_bvh = [&](const std::string& path, int repeat, double frame_time) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    ASSERT_NE(f, nullptr) << path;
+    std::fprintf(
+        f,
+        "HIERARCHY\nROOT hips\n{\n OFFSET 0 1 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation "
+        "Xrotation Yrotation\n JOINT spine\n {\n  OFFSET 0 0.3 0\n  CHANNELS 3 Zrotation Xrotation "
+        "Yrotation\n  JOINT arm\n  {\n   OFFSET 0.3 0.1 0\n   CHANNELS 3 Zrotation Xrotation Yrotation\n"
+        "   End Site\n   {\n    OFFSET 0.1 0 0\n   }\n  }\n }\n}\nMOTION\nFrames: %d\nFrame Time: %.9f\n",
+        12 * repeat, frame_time);
+    for (int frame = 0; frame < 12; ++frame)
+      for (int r = 0; r < repeat; ++r)
+        std::fprintf(f, "%.4f 1 %.4f %.3f 0 %.3f %.3f %.3f 0 %.3f 0 %.3f\n", 0.03 * frame, 0.01 * frame,
+                     20.0 * std::sin(0.5 * frame), 15.0 * frame, 40.0 * std::sin(0.7 * frame),
+                     10.0 * std::cos(0.3 * frame), 60.0 * std::sin(0.9 * frame), 5.0 * frame);
+    std::fclose(f);
+  };
+  ASSERT_NO_FATAL_FAILURE(write_bvh(dir + "/a30.bvh", 1, 1.0 / 30.0));
+  ASSERT_NO_FATAL_FAILURE(write_bvh(dir + "/b240.bvh", 8, 1.0 / 240.0));
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(garment_mesh());
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  pleat_motion_load_options o{};
+  o.struct_size = sizeof o;
+  o.unit_scale = 1.0;
+  const auto prepared = [&](const std::string& path, double expect_fps) {
+    pleat_motion *loaded = nullptr, *resampled = nullptr, *retargeted = nullptr;
+    EXPECT_EQ(pleat_motion_load(path.c_str(), &o, &loaded), PLEAT_OK) << pleat_last_error();
+    pleat_motion_info info{};
+    info.struct_size = sizeof info;
+    EXPECT_EQ(pleat_motion_get_info(loaded, &info), PLEAT_OK);
+    EXPECT_NEAR(info.frame_rate, expect_fps, 1e-6) << path;
+    EXPECT_EQ(pleat_motion_resample(loaded, 30.0, &resampled), PLEAT_OK) << pleat_last_error();
+    EXPECT_EQ(pleat_motion_retarget(resampled, body.get(), nullptr, &retargeted), PLEAT_OK)
+        << pleat_last_error();
+    pleat_motion_destroy(loaded);
+    pleat_motion_destroy(resampled);
+    return std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)>(retargeted, pleat_motion_destroy);
+  };
+  const auto a = prepared(dir + "/a30.bvh", 30.0);
+  const auto b = prepared(dir + "/b240.bvh", 240.0);
+  ASSERT_TRUE(a && b);
+  pleat_motion_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(pleat_motion_get_info(b.get(), &info), PLEAT_OK);
+  ASSERT_GE(info.frame_count, 12u) << "96 frames at 240 fps (95 / 240 s) span 12 at 30 fps";
+  const size_t n = garment_mesh().vertex_count();
+  const auto run = [&](const pleat_motion* motion, uint32_t stage) {
+    std::vector<float> out(12 * n * 3, NAN);
+    const pleat_evaluate_options eo = stage_options(stage);
+    const pleat_evaluate_outputs outputs = positions_into(out.data());
+    EXPECT_EQ(pleat_instance_evaluate_motion(instance.get(), motion, 0, 12, &eo, &outputs), PLEAT_OK)
+        << pleat_last_error();
+    return out;
+  };
+  const std::vector<float> want = run(a.get(), PLEAT_STAGE_FULL), got = run(b.get(), PLEAT_STAGE_FULL);
+  const std::vector<float> skinned = run(b.get(), PLEAT_STAGE_SKINNING);
+  float moved = 0.0f;
+  for (size_t i = 0; i < want.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(got[i])) << i;
+    EXPECT_NEAR(got[i], want[i], 1e-4f) << "frame " << i / (n * 3);
+    EXPECT_LE(std::abs(got[i] - skinned[i]), kBound) << i;
+    moved = std::max(moved, std::abs(got[i] - got[i % (n * 3)]));
+  }
+  EXPECT_GT(moved, 0.05f) << "the clip moves the garment";
+}
