@@ -18,83 +18,91 @@ inline Scalar max_of(Scalar a, Scalar b) {  // std::max would be a symbol both b
 
 template <typename Scalar>
 using Packet = Eigen::Array<Scalar, 4, 1>;
+// The widest float vector of this build: 8 lanes where AVX is compiled in
+// (the weighted sum's blocks of 64-wide rows), else 4. Doubles stay at 4.
+#ifdef EIGEN_VECTORIZE_AVX
+template <typename Scalar>
+constexpr int kWideLanes = sizeof(Scalar) == 4 ? 8 : 4;
+#else
+template <typename Scalar>
+constexpr int kWideLanes = 4;
+#endif
 template <typename Scalar>
 using ConstPacketMap = Eigen::Map<const Packet<Scalar>>;
 
-// The weighted sum of one destination row when d' is a multiple of 4: the
-// row is walked in blocks of four 4-Scalar vectors held in registers across
-// all edges (no load/store of the output per edge). Same operation order per
+// The weighted sum of one destination row when d' is a multiple of kLanes:
+// the row is walked in blocks of four kLanes-Scalar vectors held in
+// registers across all edges (no load/store of the output per edge). Same operation order per
 // element as the scalar path: edges in CSR order (heads in order within an
 // edge for mean), then the self term, then the bias.
-template <typename Scalar, bool kConcat>
+template <typename Scalar, bool kConcat, int kLanes>
 inline void accumulate_blocked(int32_t heads, Index d, int32_t degree, const int32_t* nb, const Scalar* z,
                                Index zstride, const Scalar* zi, const Scalar* a,
                                const Scalar* neighbour_coefficient, const Scalar* self_coefficient,
                                const Scalar* bias, Scalar* row) {
-  const Index out_vectors = (kConcat ? heads * d : d) / 4;
+  using Vec = Eigen::Array<Scalar, kLanes, 1>;
+  using ConstVecMap = Eigen::Map<const Vec>;
+  const Index out_vectors = (kConcat ? heads * d : d) / kLanes;
   // Column offset in z and head of output vector u (concat: head = col / d;
   // mean: every head contributes, offset h*d added below).
   Index v = 0;
   for (; v + 4 <= out_vectors; v += 4) {
-    Packet<Scalar> acc[4] = {Packet<Scalar>::Zero(), Packet<Scalar>::Zero(), Packet<Scalar>::Zero(),
-                             Packet<Scalar>::Zero()};
+    Vec acc[4] = {Vec::Zero(), Vec::Zero(), Vec::Zero(), Vec::Zero()};
     int32_t head[4];
-    for (int u = 0; u < 4; ++u) head[u] = kConcat ? static_cast<int32_t>((v + u) * 4 / d) : 0;
+    for (int u = 0; u < 4; ++u) head[u] = kConcat ? static_cast<int32_t>((v + u) * kLanes / d) : 0;
     for (int32_t e = 0; e < degree; ++e) {
-      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * kLanes;
       const Scalar* ae = a + static_cast<Index>(e) * heads;
       if constexpr (kConcat) {
-        if (head[0] == head[3]) {  // d' % 16 == 0: one coefficient for the block
+        if (head[0] == head[3]) {  // d' % (4 kLanes) == 0: one coefficient for the block
           const Scalar c = neighbour_coefficient[head[0]] * ae[head[0]];
-          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + 4 * u);
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstVecMap(zj + kLanes * u);
         } else {
           for (int u = 0; u < 4; ++u)
-            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstPacketMap<Scalar>(zj + 4 * u);
+            acc[u] += (neighbour_coefficient[head[u]] * ae[head[u]]) * ConstVecMap(zj + kLanes * u);
         }
       } else {
         for (int32_t h = 0; h < heads; ++h) {
           const Scalar c = neighbour_coefficient[h] * ae[h];
-          for (int u = 0; u < 4; ++u) acc[u] += c * ConstPacketMap<Scalar>(zj + h * d + 4 * u);
+          for (int u = 0; u < 4; ++u) acc[u] += c * ConstVecMap(zj + h * d + kLanes * u);
         }
       }
     }
     if (self_coefficient != nullptr) {
-      const Scalar* zs = zi + v * 4;
+      const Scalar* zs = zi + v * kLanes;
       if constexpr (kConcat) {
-        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstPacketMap<Scalar>(zs + 4 * u);
+        for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[head[u]] * ConstVecMap(zs + kLanes * u);
       } else {
         for (int32_t h = 0; h < heads; ++h)
-          for (int u = 0; u < 4; ++u)
-            acc[u] += self_coefficient[h] * ConstPacketMap<Scalar>(zs + h * d + 4 * u);
+          for (int u = 0; u < 4; ++u) acc[u] += self_coefficient[h] * ConstVecMap(zs + h * d + kLanes * u);
       }
     }
     if (bias != nullptr)
-      for (int u = 0; u < 4; ++u) acc[u] += ConstPacketMap<Scalar>(bias + v * 4 + 4 * u);
-    for (int u = 0; u < 4; ++u) Eigen::Map<Packet<Scalar>>(row + v * 4 + 4 * u) = acc[u];
+      for (int u = 0; u < 4; ++u) acc[u] += ConstVecMap(bias + v * kLanes + kLanes * u);
+    for (int u = 0; u < 4; ++u) Eigen::Map<Vec>(row + v * kLanes + kLanes * u) = acc[u];
   }
   for (; v < out_vectors; ++v) {
-    Packet<Scalar> acc = Packet<Scalar>::Zero();
-    const int32_t hv = kConcat ? static_cast<int32_t>(v * 4 / d) : 0;
+    Vec acc = Vec::Zero();
+    const int32_t hv = kConcat ? static_cast<int32_t>(v * kLanes / d) : 0;
     for (int32_t e = 0; e < degree; ++e) {
-      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * 4;
+      const Scalar* zj = z + static_cast<Index>(nb[e]) * zstride + v * kLanes;
       const Scalar* ae = a + static_cast<Index>(e) * heads;
       if constexpr (kConcat) {
-        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstPacketMap<Scalar>(zj);
+        acc += (neighbour_coefficient[hv] * ae[hv]) * ConstVecMap(zj);
       } else {
         for (int32_t h = 0; h < heads; ++h)
-          acc += (neighbour_coefficient[h] * ae[h]) * ConstPacketMap<Scalar>(zj + h * d);
+          acc += (neighbour_coefficient[h] * ae[h]) * ConstVecMap(zj + h * d);
       }
     }
     if (self_coefficient != nullptr) {
       if constexpr (kConcat) {
-        acc += self_coefficient[hv] * ConstPacketMap<Scalar>(zi + v * 4);
+        acc += self_coefficient[hv] * ConstVecMap(zi + v * kLanes);
       } else {
-        for (int32_t h = 0; h < heads; ++h)
-          acc += self_coefficient[h] * ConstPacketMap<Scalar>(zi + v * 4 + h * d);
+        for (int32_t h = 0; h < heads; ++h) acc += self_coefficient[h] * ConstVecMap(zi + v * kLanes + h * d);
       }
     }
-    if (bias != nullptr) acc += ConstPacketMap<Scalar>(bias + v * 4);
-    Eigen::Map<Packet<Scalar>>(row + v * 4) = acc;
+    if (bias != nullptr) acc += ConstVecMap(bias + v * kLanes);
+    Eigen::Map<Vec>(row + v * kLanes) = acc;
   }
 }
 
@@ -259,8 +267,13 @@ void aggregate_nodes(const AggregateCall<Scalar>& call) {
 
     // y_i = sum_j Q alpha_ij z_j + (P - Q) z_i + bias, in that order.
     if (d % 4 == 0) {
-      accumulate_blocked<Scalar, kConcat>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
-                                          has_self_term ? self_coefficient : nullptr, params.bias, row);
+      if (kWideLanes < Scalar >> 4 && d % kWideLanes<Scalar> == 0)
+        accumulate_blocked<Scalar, kConcat, kWideLanes<Scalar>>(
+            heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
+            has_self_term ? self_coefficient : nullptr, params.bias, row);
+      else
+        accumulate_blocked<Scalar, kConcat, 4>(heads, d, degree, nb, z, zstride, zi, a, neighbour_coefficient,
+                                               has_self_term ? self_coefficient : nullptr, params.bias, row);
     } else if (!kConcat && d < 4 && (heads - 1) * d + 4 <= zstride) {
       // Mean of narrow heads (the xyz output layers, d' = 3): one packet per
       // head, lanes past d' read the next columns of the same Z row and are
