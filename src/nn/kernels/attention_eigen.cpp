@@ -199,7 +199,20 @@ inline void softmax_packets(const AttentionParamsT<Scalar>& params, int32_t i, i
     }
   }
   for (int p = 0; p < kPackets; ++p) sum[p] = Packet<Scalar>::Zero();
-  for (int32_t e = 0; e < degree; ++e)
+  int32_t e = 0;
+  if constexpr (kPackets == 1 && kWideLanes<Scalar> == 8) {
+    // Four heads and 8-lane vectors: the exponentials of two edges at once.
+    using Pair = Eigen::Array<Scalar, 8, 1>;
+    Pair shift, pair_sum = Pair::Zero();
+    for (int k = 0; k < 8; ++k) shift[k] = largest[0][k % 4];
+    for (; e + 2 <= degree; e += 2) {
+      Eigen::Map<Pair> x(a + e * kHeads);
+      x = (x - shift).exp();
+      pair_sum += x;
+    }
+    sum[0] = pair_sum.template head<4>() + pair_sum.template tail<4>();
+  }
+  for (; e < degree; ++e)
     for (int p = 0; p < kPackets; ++p) {
       Eigen::Map<Packet<Scalar>> x(a + e * kHeads + 4 * p);
       x = (x - largest[p]).exp();
