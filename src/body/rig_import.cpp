@@ -320,11 +320,40 @@ ImportedClip import_clip(const aiAnimation* anim, unsigned index, const Skeleton
   std::vector<double> times;
   const std::vector<const aiNodeAnim*> channel =
       joint_channels(anim, s, where, &times, &clip.ignored_channels);
+  // Keys must be rotations and points: a zero or non-finite quaternion
+  // cannot be normalised, and would reach the clip as a non-unit rotation.
+  for (const aiNodeAnim* ch : channel) {
+    if (!ch) continue;
+    for (unsigned k = 0; k < ch->mNumRotationKeys; ++k) {
+      const aiQuaternion& q = ch->mRotationKeys[k].mValue;
+      const double norm =
+          std::sqrt(double(q.w) * q.w + double(q.x) * q.x + double(q.y) * q.y + double(q.z) * q.z);
+      if (!(norm > 1e-6 && norm < 1e6))
+        fail(PLEAT_ERROR_FORMAT, where + ": rotation key " + std::to_string(k) + " of '" +
+                                     ch->mNodeName.C_Str() + "' is not a rotation (norm " +
+                                     std::to_string(norm) + ")");
+    }
+    for (unsigned k = 0; k < ch->mNumPositionKeys; ++k) {
+      const aiVector3D& p = ch->mPositionKeys[k].mValue;
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        fail(PLEAT_ERROR_FORMAT, where + ": position key " + std::to_string(k) + " of '" +
+                                     ch->mNodeName.C_Str() + "' is not finite");
+    }
+  }
   double last = anim->mDuration > 0.0 ? anim->mDuration : 0.0;
   for (double t : times) last = std::max(last, t);
   const double rate = frame_rate > 0.0 ? frame_rate : key_rate(times, tps);
   clip.duration_seconds = last / tps;
-  const auto frames = static_cast<int64_t>(std::floor(clip.duration_seconds * rate + 1e-6)) + 1;
+  // A clip longer than a day of frames is a corrupt duration or key time (a
+  // fuzzer found 1.9e34 ticks), not a recording: refuse it before sizing.
+  constexpr double kMaxFrames = 30.0 * 60 * 60 * 24;
+  const double span = clip.duration_seconds * rate;
+  if (!(span >= 0.0 && span <= kMaxFrames))
+    fail(PLEAT_ERROR_FORMAT, where + " lasts " + std::to_string(clip.duration_seconds) + " s, " +
+                                 std::to_string(span) + " frames at " + std::to_string(rate) +
+                                 " fps; at most " + std::to_string(static_cast<int64_t>(kMaxFrames)) +
+                                 " frames are read");
+  const auto frames = static_cast<int64_t>(std::floor(span + 1e-6)) + 1;
   const int32_t n = s.joint_count();
   const Eigen::Quaterniond above_rotation = rigid_rotation(above);
   Motion& m = clip.motion;
