@@ -48,8 +48,10 @@ const double kWeight1[6] = {0.0, 0.5, 0.75, 1.0, 0.0, 1.0};  // bone0 gets 1 - t
 // Scene: root -> {mesh node, bone0 -> bone1}. bone0 at the origin, bone1 one
 // unit up with a 90 degree rest rotation about Y. Clip "wave" (1 tick per
 // second, keys at 0 and 1 s): bone0 slides to x = 1, bone1 turns 90 degrees
-// about its local Z.
-void export_rig(const std::string& path, const char* format) {
+// about its local Z. `last_key` and `bone0_rotation` make broken clips: a
+// second key far in the future, a key that is no rotation.
+void export_rig(const std::string& path, const char* format, double last_key = 1.0,
+                aiQuaternion bone0_rotation = aiQuaternion()) {
   aiScene scene;
   scene.mRootNode = new aiNode("root");
   scene.mMaterials = new aiMaterial* [1] { new aiMaterial() };
@@ -113,11 +115,11 @@ void export_rig(const std::string& path, const char* format) {
     ch->mRotationKeys = new aiQuatKey[2];
     ch->mScalingKeys = new aiVectorKey[2];
     for (int k = 0; k < 2; ++k) {
-      const double t = k;
+      const double t = k == 0 ? 0.0 : last_key;
       ch->mScalingKeys[k] = aiVectorKey(t, aiVector3D(1, 1, 1));
       if (c == 0) {
         ch->mPositionKeys[k] = aiVectorKey(t, aiVector3D(static_cast<float>(k), 0, 0));
-        ch->mRotationKeys[k] = aiQuatKey(t, aiQuaternion());
+        ch->mRotationKeys[k] = aiQuatKey(t, k == 0 ? bone0_rotation : aiQuaternion());
       } else {
         ch->mPositionKeys[k] = aiVectorKey(t, aiVector3D(0, 1, 0));
         ch->mRotationKeys[k] = aiQuatKey(t, ai_quat(k == 0 ? ry90() : ry90() * rz90()));
@@ -226,6 +228,20 @@ TEST(RigImport, FbxUnitsRestAndClip) {
   EXPECT_LT((posed.row(top) - s * Eigen::RowVector3d(1.2, 1, 1)).norm(), 1e-7);
 }
 
+// Keys far apart (found by fuzz_rig: 1e38 ticks apart, the key rate snapped
+// to 0 fps and every sample was NaN): the clip is sampled at 1 fps, no slower.
+TEST(RigImport, SparseKeysSampleAtOneFramePerSecond) {
+  const std::string path = pleat_test::temp_dir("rig_sparse") + "/sparse.gltf";
+  export_rig(path, "gltf2", 1e4);
+  const ImportedRig rig = import_rig(path);
+  ASSERT_EQ(rig.clips.size(), 1u);
+  const Motion& m = rig.clips[0].motion;
+  EXPECT_EQ(m.frame_rate, 1.0);
+  EXPECT_EQ(m.frame_count, 10001);
+  for (const Eigen::Quaterniond& q : m.rotations) ASSERT_NEAR(q.norm(), 1.0, 1e-9);
+  EXPECT_TRUE(m.root_translation.allFinite());
+}
+
 TEST(RigImport, BadFiles) {
   using pleat_test::expect_error;
   const std::string dir = pleat_test::temp_dir("rig_bad");
@@ -234,6 +250,13 @@ TEST(RigImport, BadFiles) {
   expect_error([&] { import_rig(dir + "/junk.gltf"); }, PLEAT_ERROR_FORMAT, "junk.gltf");
   std::ofstream(dir + "/plain.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   expect_error([&] { import_rig(dir + "/plain.obj"); }, PLEAT_ERROR_FORMAT, "no bones");
+  // Found by fuzz_rig: a clip whose last key lies 1e30 s ahead (its frame
+  // count overflowed), and a zero rotation key.
+  export_rig(dir + "/forever.gltf", "gltf2", 1e30);
+  expect_error([&] { import_rig(dir + "/forever.gltf"); }, PLEAT_ERROR_FORMAT, "clip 'wave' lasts");
+  export_rig(dir + "/zero.gltf", "gltf2", 1.0, aiQuaternion(0, 0, 0, 0));
+  expect_error([&] { import_rig(dir + "/zero.gltf"); }, PLEAT_ERROR_INVALID_ARGUMENT,
+               "joint 'bone0' rotation key 0 is not a finite rotation");
   RigImportOptions bad;
   bad.frame_rate = -1;
   expect_error([&] { import_rig(dir + "/plain.obj", bad); }, PLEAT_ERROR_INVALID_ARGUMENT, "frame_rate");
