@@ -304,9 +304,8 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
 }
 
 // Δ^t into `refined` (heading frame, offset filter applied, bands
-// attenuated) from
-// skinned[slot] and the previous frame's M̃ (null: the clip's first frame,
-// velocity 0).
+// attenuated unless band_attenuation is null) from skinned[slot] and the
+// previous frame's M̃ (null: the clip's first frame, velocity 0).
 void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
                                      const float* band_attenuation) {
   const Model& m = *model;
@@ -326,7 +325,7 @@ void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const
   });
   run_stack(m.refinement, binding->graph, refinement_in, refined, stacks, *executor);
   if (binding->offset_filter) binding->offset_filter->apply(refined.data(), 1);
-  if (band_attenuation[0] > 0.0f || band_attenuation[1] > 0.0f || band_attenuation[2] > 0.0f) {
+  if (band_attenuation != nullptr) {
     // Band split is linear per coordinate, so it commutes with the heading
     // rotation applied later.
     const size_t floats = static_cast<size_t>(n) * 3;
@@ -428,6 +427,7 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
           std::to_string(detail.band_attenuation[b]) + ", expected 0..1");
   const bool attenuate = detail.band_attenuation[0] > 0.0f || detail.band_attenuation[1] > 0.0f ||
                          detail.band_attenuation[2] > 0.0f;
+  const float* attenuation = attenuate ? detail.band_attenuation : nullptr;  // null: nothing to split
   if (count == 0) return;
   if (!poses.rotations || !poses.root_positions) bad("poses rotations and root_positions must not be null");
   if ((outputs.low.data || outputs.mid.data || outputs.high.data) && !s.garment->prepared)
@@ -456,16 +456,16 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
 
   const SingleThreadedBlas blas;  // one BLAS thread: the instance's pool owns the cores
   const size_t k = static_cast<size_t>(s.top_k);
+  int previous_slot = -1;       // skinned[] slot holding M̃ of the frame before, once known
   if (first_refined < first) {  // Δ of that earlier frame, as if evaluated in sequence
     if (first_refined > 0)
       s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
     s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data());
-    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0,
-                     detail.band_attenuation);
+    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0, attenuation);
+    if (first_refined == first - 1) previous_slot = 0;  // already the frame before
   }
-  int previous_slot = -1;  // skinned[] slot holding M̃ of the frame before, once known
   // The frame before the call's first one: its M̃ is needed for velocities.
-  if (refine && first > 0) {
+  if (refine && first > 0 && previous_slot < 0) {
     s.skin_frame(poses, first - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
     previous_slot = 1;
   }
@@ -479,8 +479,7 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       float* staged = s.staged.row(b).data();
       if (refine) {
         if (t % interval == 0)
-          s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot,
-                           detail.band_attenuation);
+          s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot, attenuation);
         s.add_refinement(poses, t, slot, staged);
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);

@@ -128,6 +128,16 @@ struct SplitRows {
   std::vector<std::pair<std::string, pleat::MetricsResult>> models;
 };
 
+// The sequence folders of a split named on the command line ("train",
+// "validation" or "test"; anything else is refused, naming `flag`).
+const std::vector<std::string>& split_folders(const pleat::training::TrainerConfig& c,
+                                              const std::string& split, const char* flag) {
+  if (split == "train") return c.train;
+  if (split == "validation") return c.validation;
+  if (split == "test") return c.test;
+  throw std::invalid_argument(std::string(flag) + " takes train, validation and test, not '" + split + "'");
+}
+
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
@@ -146,8 +156,7 @@ int evaluate(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--splits") == 0 && i + 1 < argc) {
       std::stringstream list(argv[++i]);
       for (std::string name; std::getline(list, name, ',');) {
-        if (name != "train" && name != "validation" && name != "test")
-          throw std::invalid_argument("--splits takes train, validation and test, not '" + name + "'");
+        split_folders(c, name, "--splits");  // refuses an unknown name
         splits.push_back(name);
       }
     } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
@@ -157,9 +166,6 @@ int evaluate(int argc, char** argv) {
     }
   }
   if (splits.empty()) splits = {"train", "validation", "test"};
-  const auto folders = [&](const std::string& split) -> const std::vector<std::string>& {
-    return split == "train" ? c.train : split == "validation" ? c.validation : c.test;
-  };
   if (c.test.empty() && std::find(splits.begin(), splits.end(), "test") != splits.end())
     throw std::invalid_argument("the config names no test sequences (or leave test out of --splits)");
   std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>> loaded;
@@ -209,7 +215,7 @@ int evaluate(int argc, char** argv) {
     return rows;
   };
   for (const std::string& split : splits) {
-    const std::vector<std::string>& dirs = folders(split);
+    const std::vector<std::string>& dirs = split_folders(c, split, "--splits");
     const std::string title = split == "train"        ? "Training split"
                               : split == "validation" ? "Validation split"
                                                       : "Test split";
@@ -261,8 +267,6 @@ int bench(int argc, char** argv) {
       output = argv[++i];
     } else if (std::strcmp(argv[i], "--split") == 0 && i + 1 < argc) {
       split = argv[++i];
-      if (split != "train" && split != "validation" && split != "test")
-        throw std::invalid_argument("--split takes train, validation or test, not '" + split + "'");
     } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
       options.threads = count(i, "--threads");
     } else if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
@@ -274,9 +278,7 @@ int bench(int argc, char** argv) {
     }
   }
   if (model_path.empty() || output.empty()) throw std::invalid_argument("bench needs --model and -o");
-  const std::vector<std::string>& dirs = split == "train"        ? c.train
-                                         : split == "validation" ? c.validation
-                                                                 : c.test;
+  const std::vector<std::string>& dirs = split_folders(c, split, "--split");
   if (dirs.empty()) throw std::invalid_argument("the config names no " + split + " sequences");
   const auto model = pleat::runtime::load_model_file(model_path);
   std::fprintf(stderr, "bench: %s on the %s split (%zu sequences)\n", model_path.c_str(), split.c_str(),
