@@ -1,6 +1,7 @@
 #pragma once
 // Shared pieces of the `pleat` command-line tool. The CLI is a client of the
 // public C API only, like any host.
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -40,6 +41,7 @@ void print_rest_band_energies(const pleat_garment* garment);
 using BodyPtr = std::unique_ptr<pleat_body, decltype(&pleat_body_destroy)>;
 using MotionPtr = std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)>;
 using ModelPtr = std::unique_ptr<pleat_model, decltype(&pleat_model_destroy)>;
+using GarmentPtr = std::unique_ptr<pleat_garment, decltype(&pleat_garment_destroy)>;
 
 // --body (+ --rig, --shape).
 BodyPtr load_body(const Args& args);
@@ -52,6 +54,26 @@ struct FrameRange {
 };
 FrameRange frame_range(const Args& args, const pleat_motion* motion, double fps);
 
+// A garment file or mesh (unit_scale 0: the file's own unit).
+GarmentPtr load_garment(const std::string& path, double unit_scale);
+
+// "skinning", "blend-shapes" or "full" as PLEAT_STAGE_*; CliError (exit 2) otherwise.
+uint32_t stage_of(const std::string& name);
+
+struct BakeSettings {
+  uint32_t stage = PLEAT_STAGE_FULL;
+  uint32_t threads = 0;  // 0: the library's default
+  uint32_t top_k = 0;    // 0: the model's
+};
+
+// The garment driven through the model by frames [range.first, + count) of
+// the motion (earlier frames are history): count * vertices * 3 floats.
+// progress(frames done) after every chunk. A fresh instance each call, so
+// the result depends on nothing evaluated before.
+std::vector<float> bake_frames(const pleat_model* model, const pleat_garment* garment, const pleat_body* body,
+                               const pleat_motion* motion, const FrameRange& range,
+                               const BakeSettings& settings, const std::function<void(size_t)>& progress);
+
 pleat_model_info model_info(const pleat_model* model);
 void print_model_info(const pleat_model* model);
 
@@ -60,6 +82,7 @@ int run_inspect(const Args& args);
 int run_pose(const Args& args);
 int run_init_model(const Args& args);
 int run_bake(const Args& args);
+int run_convert(const Args& args);
 // Replaces this process with `tool` from the same folder, passing argv[first..]
 // (see cmd_companion.cpp); `how_to_build` is the hint when it is missing.
 int run_companion(const std::string& tool, const std::string& how_to_build, int argc, char** argv, int first);

@@ -9,7 +9,6 @@
 namespace pleat_cli {
 namespace {
 
-using GarmentPtr = std::unique_ptr<pleat_garment, decltype(&pleat_garment_destroy)>;
 using InstancePtr = std::unique_ptr<pleat_instance, decltype(&pleat_instance_destroy)>;
 
 uint32_t variant_of(const std::string& name) {
@@ -25,13 +24,6 @@ const char* variant_name(uint32_t variant) {
     case PLEAT_VARIANT_LGAT: return "lgat";
     default: return "flexigat";
   }
-}
-
-uint32_t stage_of(const std::string& name) {
-  if (name == "full") return PLEAT_STAGE_FULL;
-  if (name == "skinning") return PLEAT_STAGE_SKINNING;
-  if (name == "blend-shapes") return PLEAT_STAGE_BLEND_SHAPES;
-  throw CliError{"--stage must be skinning, blend-shapes or full, got '" + name + "'", 2};
 }
 
 uint32_t count_option(const Args& args, const char* name, double max) {
@@ -92,34 +84,32 @@ int run_init_model(const Args& args) {
   return 0;
 }
 
-int run_bake(const Args& args) {
-  for (const char* needed : {"model", "garment", "body", "motion", "output"})
-    if (!args.has(needed))
-      throw CliError{"needs --model, --garment, --body, --motion and -o out.pc2|out.mdd|frame_####.obj", 2};
-  pleat_model* m = nullptr;
-  check(pleat_model_load(args.get("model").c_str(), &m), "loading the model '" + args.get("model") + "'");
-  ModelPtr model(m, pleat_model_destroy);
-  const pleat_model_info mi = model_info(model.get());
-
+GarmentPtr load_garment(const std::string& path, double unit_scale) {
   pleat_garment_load_options go{};
   go.struct_size = sizeof go;
-  go.unit_scale = args.number("unit-scale", 0.0);
+  go.unit_scale = unit_scale;
   pleat_garment* g = nullptr;
-  check(pleat_garment_load(args.get("garment").c_str(), &go, &g),
-        "loading the garment '" + args.get("garment") + "'");
-  GarmentPtr garment(g, pleat_garment_destroy);
+  check(pleat_garment_load(path.c_str(), &go, &g), "loading the garment '" + path + "'");
+  return GarmentPtr(g, pleat_garment_destroy);
+}
 
-  BodyPtr body = load_body(args);
-  MotionPtr motion = load_motion_for(args, body.get(), mi.frame_rate);
-  const FrameRange range = frame_range(args, motion.get(), mi.frame_rate);
+uint32_t stage_of(const std::string& name) {
+  if (name == "full") return PLEAT_STAGE_FULL;
+  if (name == "skinning") return PLEAT_STAGE_SKINNING;
+  if (name == "blend-shapes") return PLEAT_STAGE_BLEND_SHAPES;
+  throw CliError{"stage must be skinning, blend-shapes or full, got '" + name + "'", 2};
+}
 
+std::vector<float> bake_frames(const pleat_model* model, const pleat_garment* garment, const pleat_body* body,
+                               const pleat_motion* motion, const FrameRange& range,
+                               const BakeSettings& settings, const std::function<void(size_t)>& progress) {
   pleat_instance_options io{};
   io.struct_size = sizeof io;
-  io.threads = count_option(args, "threads", 256);
-  io.top_k = count_option(args, "top-k", 1 << 20);
+  io.threads = settings.threads;
+  io.top_k = settings.top_k;
   io.max_batch = 16;
   pleat_instance* in = nullptr;
-  check(pleat_instance_create(model.get(), garment.get(), body.get(), &io, &in), "binding the model");
+  check(pleat_instance_create(model, garment, body, &io, &in), "binding the model");
   InstancePtr instance(in, pleat_instance_destroy);
   pleat_instance_info ii{};
   ii.struct_size = sizeof ii;
@@ -128,8 +118,7 @@ int run_bake(const Args& args) {
   const size_t n = ii.vertex_count;
   pleat_evaluate_options eo{};
   eo.struct_size = sizeof eo;
-  eo.stage = stage_of(args.get("stage", "full"));
-
+  eo.stage = settings.stage;
   std::vector<float> positions(range.count * n * 3);
   const size_t chunk = 64;
   for (size_t f = 0; f < range.count; f += chunk) {
@@ -139,11 +128,37 @@ int run_bake(const Args& args) {
     out.positions = {positions.data() + f * n * 3, 0};
     // Frames before range.first are the history the motion window and the
     // velocities look at; the motion holds them all.
-    check(pleat_instance_evaluate_motion(instance.get(), motion.get(), range.first + f, c, &eo, &out),
+    check(pleat_instance_evaluate_motion(instance.get(), motion, range.first + f, c, &eo, &out),
           "evaluating frames");
-    std::fprintf(stderr, "\rbaked %zu / %zu frames", f + c, range.count);
+    progress(f + c);
   }
+  return positions;
+}
+
+int run_bake(const Args& args) {
+  for (const char* needed : {"model", "garment", "body", "motion", "output"})
+    if (!args.has(needed))
+      throw CliError{
+          "needs --model, --garment, --body, --motion and -o out.pc2|out.mdd|out.glb|out.usda|frame_####.obj",
+          2};
+  pleat_model* m = nullptr;
+  check(pleat_model_load(args.get("model").c_str(), &m), "loading the model '" + args.get("model") + "'");
+  ModelPtr model(m, pleat_model_destroy);
+  const pleat_model_info mi = model_info(model.get());
+  GarmentPtr garment = load_garment(args.get("garment"), args.number("unit-scale", 0.0));
+  BodyPtr body = load_body(args);
+  MotionPtr motion = load_motion_for(args, body.get(), mi.frame_rate);
+  const FrameRange range = frame_range(args, motion.get(), mi.frame_rate);
+
+  BakeSettings settings;
+  settings.stage = stage_of(args.get("stage", "full"));
+  settings.threads = count_option(args, "threads", 256);
+  settings.top_k = count_option(args, "top-k", 1 << 20);
+  const std::vector<float> positions =
+      bake_frames(model.get(), garment.get(), body.get(), motion.get(), range, settings,
+                  [&](size_t done) { std::fprintf(stderr, "\rbaked %zu / %zu frames", done, range.count); });
   std::fprintf(stderr, "\n");
+  const size_t n = positions.size() / (3 * range.count);
   check(pleat_cache_write(args.get("output").c_str(), PLEAT_CACHE_AUTO, garment.get(), {positions.data(), 0},
                           range.count, n, mi.frame_rate),
         "writing '" + args.get("output") + "'");

@@ -1,4 +1,4 @@
-// `pleat`: prepare and inspect garments, pose bodies, initialise models, bake.
+// `pleat`: prepare and inspect garments, pose bodies, initialise models, bake, convert.
 #include <cstdio>
 #include <cstring>
 
@@ -28,11 +28,14 @@ const char* kUsage =
     "  init-model --body B -o model.pleat   a model with the paper's initialisation for\n"
     "                                   the body's skeleton (untrained: for testing pipelines)\n"
     "      --variant flexigat|gat|lgat  --window N (8)  --fps F (30)  --seed N (1)\n"
-    "  bake --model M --garment G --body B --motion clip -o out.pc2|out.mdd|frame_####.obj\n"
+    "  bake --model M --garment G --body B --motion clip -o out.pc2|.mdd|.glb|.gltf|.usda|frame_####.obj\n"
     "                                   the garment driven through the model by the motion\n"
     "      --garment file.pleatg|mesh   (--unit-scale S for meshes)  --map joints.txt\n"
     "      --stage skinning|blend-shapes|full (full)  --threads N (1)  --top-k K (model's)\n"
     "      --first N --frames N         frame range (earlier frames are history)\n"
+    "  convert manifest.json            bake garments x characters x clips into PC2, MDD, OBJ,\n"
+    "                                   glTF and USD (docs/pipeline.md); a rerun skips what is done\n"
+    "      -o DIR  --shard i/n (one of n farm tasks)  --force (redo all)  --report FILE\n"
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
     "  export config.json -o m.pleat    the kept epoch as a model file (pleat-train)\n"
     "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
@@ -63,6 +66,7 @@ int main(int argc, char** argv) {
     if (command == "pose") return run_pose(parse_args(argc, argv, 2, {}));
     if (command == "init-model") return run_init_model(parse_args(argc, argv, 2, {}));
     if (command == "bake") return run_bake(parse_args(argc, argv, 2, {}));
+    if (command == "convert") return run_convert(parse_args(argc, argv, 2, {"force"}));
     if (command == "train" || command == "export" || command == "ablation" || command == "bench")
       return run_companion("pleat-train",
                            "configure with -DPLEAT_BUILD_TRAINING=ON and libtorch-dev installed", argc, argv,

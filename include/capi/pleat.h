@@ -186,10 +186,12 @@ typedef struct pleat_metrics {
 } pleat_metrics;
 
 /* Point-cache formats for pleat_cache_write / pleat_cache_read. */
-#define PLEAT_CACHE_AUTO 0 /* from the extension: .pc2, .mdd, else OBJ sequence */
+#define PLEAT_CACHE_AUTO 0 /* from the extension: .pc2, .mdd, .gltf/.glb, .usda, else OBJ sequence */
 #define PLEAT_CACHE_PC2 1
 #define PLEAT_CACHE_MDD 2
 #define PLEAT_CACHE_OBJ_SEQUENCE 3 /* path holds a run of '#' for the frame number */
+#define PLEAT_CACHE_GLTF 4         /* morph-target animation; .glb binary, else JSON */
+#define PLEAT_CACHE_USDA 5         /* USD ASCII, time-sampled points; written, not read */
 
 typedef struct pleat_cache_info {
   uint32_t struct_size;
@@ -447,7 +449,7 @@ PLEAT_EXPORT pleat_status pleat_metrics_compute(const pleat_garment* garment, pl
 
 /* ---- Point caches -------------------------------------------------------- */
 
-/* Reads the header of a PC2 or MDD file, or counts an OBJ sequence.
+/* Reads the header of a PC2, MDD or glTF file, or counts an OBJ sequence.
    format: PLEAT_CACHE_*. Thread-safe. */
 PLEAT_EXPORT pleat_status pleat_cache_get_info(const char* path, uint32_t format, pleat_cache_info* out_info);
 
@@ -456,8 +458,8 @@ PLEAT_EXPORT pleat_status pleat_cache_get_info(const char* path, uint32_t format
 PLEAT_EXPORT pleat_status pleat_cache_read(const char* path, uint32_t format, pleat_frames out,
                                            size_t capacity);
 
-/* Writes frames atomically. An OBJ sequence takes its faces from `garment`
-   (required for that format, ignored otherwise). Thread-safe. */
+/* Writes frames atomically. OBJ sequences, glTF and USD take the faces from
+   `garment` (required for those formats, ignored otherwise). Thread-safe. */
 PLEAT_EXPORT pleat_status pleat_cache_write(const char* path, uint32_t format, const pleat_garment* garment,
                                             pleat_const_frames positions, size_t frame_count,
                                             size_t vertex_count, double frame_rate);

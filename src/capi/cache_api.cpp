@@ -1,4 +1,4 @@
-// C entry points for point caches (PC2, MDD, OBJ sequences).
+// C entry points for point caches (PC2, MDD, OBJ sequences, glTF, USD).
 #include "capi/firewall.h"
 #include "capi/frames.h"
 #include "capi/handles.h"
@@ -49,9 +49,8 @@ pleat_status pleat_cache_write(const char* path, uint32_t format, const pleat_ga
     require_not_null(path, "path");
     const CacheFormat f = resolve_cache_format(path, static_cast<CacheFormat>(format));
     const Triangles* triangles = nullptr;
-    if (f == CacheFormat::obj_sequence) {
-      PLEAT_REQUIRE(garment != nullptr,
-                    "argument 'garment' is NULL; an OBJ sequence takes its faces from it");
+    if (cache_holds_faces(f)) {
+      PLEAT_REQUIRE(garment != nullptr, "argument 'garment' is NULL; this format takes the faces from it");
       PLEAT_REQUIRE(static_cast<size_t>(garment->garment->rest.vertex_count()) == vertex_count,
                     "vertex_count " + std::to_string(vertex_count) + " differs from the garment's " +
                         std::to_string(garment->garment->rest.vertex_count()));

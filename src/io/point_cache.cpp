@@ -15,8 +15,10 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/gltf_cache.h"
 #include "io/obj_writer.h"
 #include "io/text_file.h"
+#include "io/usda_cache.h"
 
 namespace pleat {
 namespace {
@@ -294,9 +296,29 @@ class ObjSequenceReader : public FrameReader {
   std::vector<float> scratch_;
 };
 
+class GltfReader : public FrameReader {
+ public:
+  explicit GltfReader(const std::string& path) : animation_(path) {
+    header_.format = CacheFormat::gltf;
+    header_.frame_count = animation_.frame_count();
+    header_.vertex_count = animation_.vertex_count();
+    header_.frame_rate = animation_.frame_rate();
+    header_.start_time = animation_.start_time();
+  }
+  void read_frame(int64_t f, float* dst) override { animation_.frame(f, dst); }
+
+ private:
+  GltfMorphAnimation animation_;
+};
+
 std::unique_ptr<FrameReader> open_reader(const std::string& path, CacheFormat format) {
   format = resolve_cache_format(path, format);
   if (format == CacheFormat::obj_sequence) return std::make_unique<ObjSequenceReader>(path);
+  if (format == CacheFormat::gltf) return std::make_unique<GltfReader>(path);
+  if (format == CacheFormat::usda)
+    fail(PLEAT_ERROR_INVALID_ARGUMENT,
+         in_quotes(path) +
+             ": pleat writes USD point caches but does not read them; convert to PC2, MDD or glTF");
   return std::make_unique<BinaryReader>(path, format);
 }
 
@@ -336,7 +358,9 @@ CacheFormat resolve_cache_format(const std::string& path, CacheFormat requested)
   switch (requested) {
     case CacheFormat::pc2:
     case CacheFormat::mdd:
-    case CacheFormat::obj_sequence: return requested;
+    case CacheFormat::obj_sequence:
+    case CacheFormat::gltf:
+    case CacheFormat::usda: return requested;
     case CacheFormat::automatic: break;
     default:
       fail(PLEAT_ERROR_INVALID_ARGUMENT,
@@ -347,6 +371,8 @@ CacheFormat resolve_cache_format(const std::string& path, CacheFormat requested)
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".pc2") return CacheFormat::pc2;
   if (extension == ".mdd") return CacheFormat::mdd;
+  if (extension == ".gltf" || extension == ".glb") return CacheFormat::gltf;
+  if (extension == ".usda") return CacheFormat::usda;
   return CacheFormat::obj_sequence;
 }
 
@@ -407,22 +433,30 @@ void write_cache(const std::string& path, CacheFormat format, const float* frame
   if (in_stride < frame_floats)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, "frame stride " + std::to_string(in_stride) +
                                            " is below vertex_count * 3 = " + std::to_string(frame_floats));
-  if (format != CacheFormat::obj_sequence &&
-      (frame_count > INT32_MAX || vertex_count > static_cast<size_t>(INT32_MAX)))
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, "PC2 and MDD hold at most 2^31 - 1 frames and points");
-  if (format == CacheFormat::obj_sequence) {
-    if (!triangles) fail(PLEAT_ERROR_INVALID_ARGUMENT, "an OBJ sequence needs the triangles");
+  if (frame_count > INT32_MAX || vertex_count > static_cast<size_t>(INT32_MAX))
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "a point cache holds at most 2^31 - 1 frames and points");
+  if (cache_holds_faces(format)) {
+    if (!triangles) fail(PLEAT_ERROR_INVALID_ARGUMENT, in_quotes(path) + " needs the garment's triangles");
     check_triangles(*triangles, vertex_count);
-    obj_sequence_frame_path(path, 0);  // rejects a pattern without '#' up front
   }
+  if (format == CacheFormat::obj_sequence)
+    obj_sequence_frame_path(path, 0);  // a pattern without '#' fails up front
   for (size_t f = 0; f < frame_count; ++f)
     for (size_t i = 0; i < frame_floats; ++i)
       if (!std::isfinite(frames[f * in_stride + i]))
         fail(PLEAT_ERROR_INVALID_ARGUMENT,
              "frame " + std::to_string(f) + " vertex " + std::to_string(i / 3) + " is not finite");
 
-  if (format != CacheFormat::obj_sequence) {
+  if (format == CacheFormat::pc2 || format == CacheFormat::mdd) {
     write_binary(path, format, frames, frame_count, vertex_count, in_stride, frame_rate);
+    return;
+  }
+  if (format == CacheFormat::gltf) {
+    write_gltf_cache(path, frames, frame_count, vertex_count, in_stride, frame_rate, *triangles);
+    return;
+  }
+  if (format == CacheFormat::usda) {
+    write_usda_cache(path, frames, frame_count, vertex_count, in_stride, frame_rate, *triangles);
     return;
   }
   // Every frame is on disk, and every name known, before the first frame

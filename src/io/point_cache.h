@@ -23,6 +23,9 @@
 //   at 1 when there is no frame 0 (Blender's exporter starts at the scene's first frame, 1 by default), and
 //   counts consecutive files; only 'v' lines are read. No frame rate is stored:
 //   reading reports 30 fps and start_time = first frame number / 30.
+// glTF (.gltf, .glb): morph-target animation, read and written
+//   (io/gltf_cache.h).
+// USD ASCII (.usda): time-sampled mesh points, written only (io/usda_cache.h).
 //
 // Reading checks the whole file before writing to the caller's buffer, so on
 // any failure that buffer is untouched. Writing is atomic per file (AtomicFile);
@@ -42,13 +45,20 @@ enum class CacheFormat : uint32_t {
   pc2 = PLEAT_CACHE_PC2,
   mdd = PLEAT_CACHE_MDD,
   obj_sequence = PLEAT_CACHE_OBJ_SEQUENCE,
+  gltf = PLEAT_CACHE_GLTF,
+  usda = PLEAT_CACHE_USDA,
 };
+
+// Formats that store the mesh's faces with the points (the writer needs them).
+inline bool cache_holds_faces(CacheFormat format) {
+  return format == CacheFormat::obj_sequence || format == CacheFormat::gltf || format == CacheFormat::usda;
+}
 
 // Frame rate assumed where a format stores none (DESIGN section 8).
 constexpr double kDefaultFrameRate = 30.0;
 
-// `requested` unless automatic; then .pc2 / .mdd by extension (any case), and
-// an OBJ sequence otherwise. Throws PLEAT_ERROR_INVALID_ARGUMENT for a value
+// `requested` unless automatic; then .pc2 / .mdd / .gltf / .glb / .usda by
+// extension (any case), and an OBJ sequence otherwise. Throws PLEAT_ERROR_INVALID_ARGUMENT for a value
 // outside the enum.
 CacheFormat resolve_cache_format(const std::string& path, CacheFormat requested);
 
@@ -74,8 +84,8 @@ CacheHeader read_cache(const std::string& path, CacheFormat format, float* out, 
                        size_t capacity_floats);
 
 // Writes frame_count frames of vertex_count points (frame f at frames + f *
-// in_stride; 0 = packed). `triangles` is required for an OBJ sequence and
-// ignored otherwise. Every input is checked before the first byte is written:
+// in_stride; 0 = packed). `triangles` is required for the formats that hold
+// faces (cache_holds_faces) and ignored otherwise. Every input is checked before the first byte is written:
 // NaN/Inf (named by frame and vertex), zero counts, a bad frame rate or triangle
 // give PLEAT_ERROR_INVALID_ARGUMENT; counts beyond a format's int32 fields too.
 void write_cache(const std::string& path, CacheFormat format, const float* frames, size_t frame_count,
