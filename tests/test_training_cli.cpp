@@ -2,6 +2,7 @@
 // data set on disk, a model file out; bad configurations named.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/point_cache.h"
+#include "io/sequence.h"
 #include "runtime/model_file.h"
 #include "runtime/model_init.h"
 #include "support/synthetic_sequence.h"
@@ -410,5 +413,77 @@ TEST(TrainingCli, InitialModelStartsFromTheFilesWeights) {
     ADD_FAILURE() << "initial_model with a model section is refused";
   } catch (const pleat::Error& e) {
     EXPECT_NE(std::string(e.what()).find("initial_model and model"), std::string::npos) << e.what();
+  }
+}
+
+// `pleat import-sequences`: the parts of a sequence (rest garment OBJ, body,
+// clip, PC2 cache of the "simulation") come back as the same training
+// sequence pleat wrote, train end to end, and bad caches are refused with
+// exit 2, naming the file and the field, before anything of theirs is written.
+TEST(TrainingCli, ImportSequencesFromPc2CachesTrainsEndToEnd) {
+  const std::string root = pleat_test::temp_dir("training_import");
+  const std::string sim = pleat_test::write_skirt_walk(root + "/sim", 0.02, "walk");
+  const auto config = [&](const std::string& name, const std::string& output, const std::string& cache,
+                          const std::string& extra) {
+    std::string entries;
+    for (const char* split : {"train", "validation", "test"})
+      entries += std::string(entries.empty() ? "" : ",") + R"({"name": "walk_)" + split + R"(", "split": ")" +
+                 split + R"(", "garment": "sim/walk/garment.obj", "garment_name": "skirt", "body": ")" +
+                 pleat_test::asset_dir() + R"(/body", "motion": ")" + pleat_test::source_dir() +
+                 R"(/tests/fixtures/motion/12_03_walk_121.bvh", "cache": ")" + cache + "\"" + extra + "}";
+    std::ofstream(root + "/" + name) << R"({"output": ")" + output + R"(", "sequences": [)" + entries + "]}";
+    return root + "/" + name;
+  };
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(cli() + " import-sequences " +
+                                        config("import.json", "set", "sim/walk/garment.pc2", "") + " 2>&1",
+                                    &text),
+            0)
+      << text;
+  const pleat::SequenceData original = pleat::read_sequence(sim);
+  for (const char* split : {"train", "validation", "test"}) {
+    const pleat::SequenceData imported = pleat::read_sequence(root + "/set/walk_" + std::string(split));
+    EXPECT_EQ(imported.meta.split, split);
+    EXPECT_EQ(imported.meta.frame_count, 31);
+    EXPECT_EQ(imported.meta.garment_name, "skirt");
+    EXPECT_EQ(imported.meta.joint_names, original.meta.joint_names);
+    EXPECT_EQ(imported.garment_frames, original.garment_frames);
+    ASSERT_EQ(imported.body_frames.size(), original.body_frames.size());
+    for (size_t i = 0; i < imported.body_frames.size(); ++i)
+      ASSERT_NEAR(imported.body_frames[i], original.body_frames[i], 1e-5) << i;
+    ASSERT_EQ(imported.rotations.size(), original.rotations.size());
+    for (size_t i = 0; i < imported.rotations.size(); ++i)
+      ASSERT_NEAR(imported.rotations[i], original.rotations[i], 1e-6) << i;
+  }
+  ASSERT_NO_FATAL_FAILURE(train_tiny_model(root));
+  EXPECT_TRUE(std::filesystem::exists(root + "/run/model.pleat"));
+
+  // A 24 fps cache, a cache of another mesh, a NaN, a missing file, another unit.
+  std::vector<float> frames(31 * 80 * 3);
+  pleat::read_cache(sim + "/garment.pc2", pleat::CacheFormat::automatic, frames.data(), 0, frames.size());
+  pleat::write_cache(root + "/small.pc2", pleat::CacheFormat::pc2, frames.data(), 31, 5, 240, 30.0, nullptr);
+  frames[(3 * 80 + 2) * 3] = std::nanf("");
+  std::filesystem::copy_file(sim + "/garment.pc2", root + "/nan.pc2");
+  {
+    std::fstream poke(root + "/nan.pc2", std::ios::in | std::ios::out | std::ios::binary);
+    poke.seekp(32 + (3 * 80 + 2) * 3 * 4);
+    poke.write(reinterpret_cast<const char*>(&frames[(3 * 80 + 2) * 3]), 4);
+  }
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {config("rate.json", "rate", "sim/walk/garment.pc2", R"(, "cache_frame_rate": 24)"),
+       "garment.pc2' runs at 24.000000 fps, the data set at 30.000000 (frame_rate"},
+      {config("count.json", "count", "small.pc2", ""),
+       "small.pc2' has 5 vertices, the rest garment '" + sim + "/garment.obj' 80 (vertex_count)"},
+      {config("nan.json", "nan", "nan.pc2", ""), "nan.pc2': frame 3 vertex 2 is not finite"},
+      {config("missing.json", "missing", "none.pc2", ""),
+       "'sequences[0].cache' names '" + root + "/none.pc2'"},
+      {config("unit.json", "unit", "sim/walk/garment.pc2", R"(, "unit_scale": 100)"),
+       "cm (mean) from the rest garment skinned to frame 0"}};
+  for (const auto& [file, message] : bad) {
+    EXPECT_EQ(pleat_test::run_command(cli() + " import-sequences " + file + " 2>&1", &text), 2) << file;
+    EXPECT_NE(text.find(message), std::string::npos) << text;
+    const std::string out = root + "/" + std::filesystem::path(file).stem().string();
+    EXPECT_FALSE(std::filesystem::exists(out + "/walk_train")) << out;
+    EXPECT_FALSE(std::filesystem::exists(out + "/splits.json")) << out;
   }
 }

@@ -43,6 +43,8 @@ const char* kUsage =
     "                                   host setting, libtorch and LBS (pleat-train; docs/benchmarks.md)\n"
     "  datagen config.json [--jobs N]   simulate a training data set in Blender (docs/datagen.md;\n"
     "                                   runs pleat-datagen; --help for its options)\n"
+    "  import-sequences config.json     training sequences from any simulator's point caches\n"
+    "                                   (PC2, MDD, OBJ, glTF; docs/pipeline.md; runs pleat-datagen)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -73,6 +75,8 @@ int main(int argc, char** argv) {
                            1);
     if (command == "datagen")
       return run_companion("pleat-datagen", "build the datagen target", argc, argv, 2);
+    if (command == "import-sequences")
+      return run_companion("pleat-datagen", "build the datagen target", argc, argv, 1);
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {
     std::fprintf(stderr, "pleat %s: %s\n", command.c_str(), e.message.c_str());

@@ -2,6 +2,7 @@
 // (`pleat datagen` forwards here; docs/datagen.md).
 //
 //   pleat-datagen config.json [--jobs N] [--threads N] [--output DIR] [--only TEXT] [--dry-run] [--quiet]
+//   pleat-datagen import-sequences config.json [--quiet]   (other simulators' caches)
 //
 // Exit status: 0 when nothing failed (rejected simulations are the check at
 // work: listed, remembered, not retried), 1 when some sequences failed (the
@@ -16,6 +17,7 @@
 #include "config.h"
 #include "core/error.h"
 #include "generate.h"
+#include "import_sequences.h"
 
 namespace {
 
@@ -27,7 +29,9 @@ const char* kUsage =
     "  --output DIR  where the sequences go (default: the config's output, else the cache folder)\n"
     "  --only TEXT   simulate only sequences whose name contains TEXT\n"
     "  --dry-run     print the plan and stop\n"
-    "config.json: docs/datagen.md\n";
+    "config.json: docs/datagen.md\n"
+    "       pleat-datagen import-sequences config.json [--quiet]\n"
+    "  training sequences from other simulators' point caches (docs/pipeline.md)\n";
 
 int positive(const char* text, const char* option) {
   char* end = nullptr;
@@ -44,6 +48,15 @@ int main(int argc, char** argv) {
     if (argc < 2 || std::strcmp(argv[1], "--help") == 0 || std::strcmp(argv[1], "-h") == 0) {
       std::fputs(kUsage, argc < 2 ? stderr : stdout);
       return argc < 2 ? 2 : 0;
+    }
+    if (std::strcmp(argv[1], "import-sequences") == 0) {
+      if (argc < 3 || argc > 4 || (argc == 4 && std::strcmp(argv[3], "--quiet") != 0))
+        throw std::invalid_argument("usage: import-sequences config.json [--quiet]");
+      const pleat::datagen::ImportConfig config = pleat::datagen::read_import_config(argv[2]);
+      pleat::datagen::import_sequences(config, argc == 3);
+      std::printf("%s: %zu sequences imported; splits.json\n", config.output.c_str(),
+                  config.sequences.size());
+      return 0;
     }
     pleat::datagen::Config config = pleat::datagen::read_config(argv[1]);
     pleat::datagen::GenerateOptions options;

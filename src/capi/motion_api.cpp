@@ -1,11 +1,9 @@
 // C entry points for motions: BVH and FBX/glTF clips, resampling, retargeting.
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
-#include "body/bvh.h"
+#include "body/motion_file.h"
 #include "body/motion_ops.h"
-#include "body/rig_import.h"
 #include "capi/firewall.h"
 #include "capi/handles.h"
 
@@ -27,29 +25,11 @@ pleat_motion::pleat_motion(Motion m, double scale) : motion(std::move(m)), unit_
 
 namespace {
 
-bool is_bvh(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".bvh";
-}
-
 pleat_motion* load_motion(const std::string& path, const pleat_motion_load_options& o) {
   PLEAT_REQUIRE(std::isfinite(o.unit_scale) && o.unit_scale >= 0.0,
                 "'pleat_motion_load_options.unit_scale' must be finite and >= 0");
-  if (is_bvh(path)) {
-    BvhOptions b;
-    b.scale = o.unit_scale;
-    BvhClip clip = read_bvh(path, b);
-    return new pleat_motion{std::move(clip.motion), clip.conversion.scale};
-  }
-  RigImportOptions r;
-  if (o.unit_scale > 0.0) r.scale = o.unit_scale;
-  ImportedRig rig = import_rig(path, r);
-  if (o.clip >= rig.clips.size())
-    fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": clip " + std::to_string(o.clip) +
-                                           " requested, the file has " + std::to_string(rig.clips.size()) +
-                                           " animation clip(s)");
-  return new pleat_motion{std::move(rig.clips[o.clip].motion), rig.unit_scale};
+  MotionFile file = read_motion_file(path, o.unit_scale, o.clip);
+  return new pleat_motion{std::move(file.motion), file.unit_scale};
 }
 
 }  // namespace
