@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
     const double t = pleat_bench::median_seconds(
                          [&] {
                            lod.evaluate(poses, frames - 16, 8, Stage::refinement, lod_outputs,
-                                        RefinementDetail{interval, {}});
+                                        EvaluateDetail{interval, {}});
                          },
                          reps) /
                      8.0;

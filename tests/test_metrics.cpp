@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/geometry.h"
 #include "core/topology.h"
+#include "metrics/body_penetration.h"
 #include "metrics/curvature.h"
 #include "metrics/metrics.h"
 #include "metrics/self_collision.h"
@@ -319,3 +320,20 @@ TEST(SelfCollision, BoxTreeFindsWhatBruteForceFinds) {
 
 }  // namespace
 }  // namespace pleat
+
+// Body penetration: behind the nearest body vertex's normal counts as inside.
+// Frame 0: one of two garment vertices below a floor of body vertices (50 %);
+// frame 1: both above (0 %); the mean is 25 %.
+TEST(BodyPenetration, CountsVerticesBehindTheNearestBodyNormal) {
+  const float body[2][9] = {{0, 0, 0, 1, 0, 0, 0, 0, 1}, {0, 0, 0, 1, 0, 0, 0, 0, 1}};
+  const float normals[2][9] = {{0, 1, 0, 0, 1, 0, 0, 1, 0}, {0, 1, 0, 0, 1, 0, 0, 1, 0}};
+  const float garment[2][6] = {{0.9f, 0.05f, 0, 0.1f, -0.01f, 0.9f}, {0.9f, 0.05f, 0, 0.1f, 0.01f, 0.9f}};
+  EXPECT_DOUBLE_EQ(pleat::body_penetration_percent(&garment[0][0], 2, &body[0][0], &normals[0][0], 3, 2),
+                   25.0);
+  EXPECT_DOUBLE_EQ(pleat::body_penetration_percent(&garment[1][0], 2, &body[1][0], &normals[1][0], 3, 1),
+                   0.0);
+  float bad[2][6] = {{0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, NAN, 0}};
+  pleat_test::expect_error(
+      [&] { pleat::body_penetration_percent(&bad[0][0], 2, &body[0][0], &normals[0][0], 3, 2); },
+      PLEAT_ERROR_INVALID_ARGUMENT, "garment frame 1 vertex 1 is not finite");
+}

@@ -81,11 +81,13 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
   }
   {  // a held refinement with an attenuated band, starting inside an interval
     const long before = pleat_test::allocation_count();
-    RefinementDetail detail;
+    EvaluateDetail detail;
     detail.interval = 3;
     detail.band_attenuation[2] = 0.5f;
+    detail.body_collision = 0.003f;
     instance.evaluate(poses, 4, frames - 4, Stage::refinement, out, detail);
-    EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "refinement interval 3, high band halved";
+    EXPECT_EQ(pleat_test::allocation_count() - before, 0)
+        << "refinement interval 3, high band halved, body-collision post-pass";
   }
   // The counter works: binding allocates.
   const long before = pleat_test::allocation_count();

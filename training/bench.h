@@ -20,12 +20,12 @@ struct BenchSetting {
   std::string name;
   runtime::Stage stage = runtime::Stage::refinement;
   int32_t top_k = 0;  // 0: the model's default
-  runtime::RefinementDetail detail;
+  runtime::EvaluateDetail detail;
 };
 
 // The settings a bench measures by default: the three stages, top-k 2, 8
 // and every joint, refinement every 2nd, 4th and 8th frame, the
-// refinement's high (and mid) band dropped.
+// refinement's high (and mid) band dropped, the body-collision post-pass.
 std::vector<BenchSetting> default_bench_settings();
 
 struct BenchOptions {

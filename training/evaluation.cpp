@@ -5,6 +5,7 @@
 #include "body/skinning.h"
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "metrics/body_penetration.h"
 #include "spectral/band_split.h"
 
 namespace pleat::training {
@@ -20,8 +21,13 @@ MetricsResult sequence_metrics(const TrainingSequence& s, const float* predicted
   MetricsOptions options;
   options.flags = PLEAT_METRIC_VERTEX | PLEAT_METRIC_NORMALS | PLEAT_METRIC_EDGES | PLEAT_METRIC_CURVATURE |
                   PLEAT_METRIC_BANDS | PLEAT_METRIC_SELF_COLLISION;
-  return compute_metrics(s.garment->rest.triangles, static_cast<int32_t>(n), predicted, 0,
-                         truth.data_ptr<float>(), 0, static_cast<size_t>(s.frame_count()), options, &split);
+  MetricsResult m =
+      compute_metrics(s.garment->rest.triangles, static_cast<int32_t>(n), predicted, 0,
+                      truth.data_ptr<float>(), 0, static_cast<size_t>(s.frame_count()), options, &split);
+  const torch::Tensor body = s.body_positions.contiguous(), normals = s.body_normals.contiguous();
+  m.body_penetration_percent = body_penetration_percent(
+      predicted, n, body.data_ptr<float>(), normals.data_ptr<float>(), body.size(1), s.frame_count());
+  return m;
 }
 
 void accumulate(MetricsResult* total, const MetricsResult& m) {
@@ -37,6 +43,7 @@ void accumulate(MetricsResult* total, const MetricsResult& m) {
   mix(total->e_mid_cm, m.e_mid_cm);
   mix(total->e_high_cm, m.e_high_cm);
   mix(total->self_collision_percent, m.self_collision_percent);
+  mix(total->body_penetration_percent, m.body_penetration_percent);
   total->frame_count += m.frame_count;
   total->computed = m.computed;
 }

@@ -349,6 +349,11 @@ typedef struct pleat_evaluate_options {
      a garment seen from afar. Needs a prepared garment
      (PLEAT_ERROR_NOT_PREPARED otherwise) when any entry is above 0. */
   float band_attenuation[3];
+  /* Any stage: > 0 runs the body-collision post-pass, which moves garment
+     vertices that end inside the body, or closer to it than this many
+     metres, out along the body's normal (e.g. 0.002); 0 = off. Vertices
+     further than 10 cm from the body are never moved (docs/runtime.md). */
+  float body_collision_distance;
 } pleat_evaluate_options;
 
 /* Where evaluation writes; any output whose data is NULL is not computed.

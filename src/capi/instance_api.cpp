@@ -63,7 +63,7 @@ void evaluate(runtime::Instance& in, const runtime::PoseSequence& poses, size_t 
   out.mid = output(o.mid, "mid", n * 3);
   out.high = output(o.high, "high", n * 3);
   const auto settings = read_options(options, "pleat_evaluate_options");
-  runtime::RefinementDetail detail;
+  runtime::EvaluateDetail detail;
   detail.interval = std::max(
       checked_count(settings.refinement_interval, 1u << 20, "pleat_evaluate_options.refinement_interval"), 1);
   const char* band_names[3] = {"low", "mid", "high"};
@@ -74,6 +74,10 @@ void evaluate(runtime::Instance& in, const runtime::PoseSequence& poses, size_t 
                                               std::to_string(a) + ", expected 0..1");
     detail.band_attenuation[b] = a;
   }
+  PLEAT_REQUIRE(settings.body_collision_distance >= 0.0f && settings.body_collision_distance <= 1.0f,
+                "'pleat_evaluate_options.body_collision_distance' is " +
+                    std::to_string(settings.body_collision_distance) + " m, expected 0..1");
+  detail.body_collision = settings.body_collision_distance;
   in.evaluate(poses, static_cast<int64_t>(first), static_cast<int64_t>(count), stage_of(settings), out,
               detail);
 }

@@ -50,6 +50,9 @@ struct MetricsResult {
   double e_mid_cm = 0.0;
   double e_high_cm = 0.0;
   double self_collision_percent = 0.0;
+  // Not from compute_metrics (it needs the body): body_penetration.h, filled
+  // by callers that have the posed body (the trainer's reports, the bench).
+  double body_penetration_percent = 0.0;
 };
 
 constexpr uint32_t kAllMetrics = PLEAT_METRIC_VERTEX | PLEAT_METRIC_NORMALS | PLEAT_METRIC_EDGES |

@@ -15,6 +15,7 @@
 #include "nn/mlp.h"
 #include "nn/parallel.h"
 #include "runtime/binding.h"
+#include "runtime/body_collision.h"
 #include "runtime/frame_features.h"
 #include "spectral/band_split.h"
 #include "spectral/blas_threads.h"
@@ -132,6 +133,7 @@ struct Instance::State {
   std::vector<int32_t> chosen_joint;  // max_batch x N x k (model joints)
   std::vector<float> chosen_weight;   // max_batch x N x k
   MatrixRM staged;                    // max_batch x (N * 3): positions of the batch
+  BodyCollision collision;            // the post-pass's candidates and workspace
   BandSplitScratch<float> band_scratch;
 
   void bind(const Body& body, const InstanceOptions& options);
@@ -160,6 +162,9 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   max_batch = options.max_batch;
 
   binding = bind_inputs(m, g, body);
+  std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
+  for (int32_t j = 0; j < joints; ++j) model_of_body[static_cast<size_t>(binding->body_of_model[j])] = j;
+  collision = BodyCollision(body, binding->rest, model_of_body);
   features = FrameFeatures(m, binding->skeleton, binding->body_of_model);
 
   // Body code b: the body encoder over every body vertex, [mean | max], pool.
@@ -404,7 +409,7 @@ Instance::Instance(std::shared_ptr<const Model> model, std::shared_ptr<const Gar
 Instance::~Instance() = default;
 
 void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                        const EvaluateOutputs& outputs, const RefinementDetail& detail) {
+                        const EvaluateOutputs& outputs, const EvaluateDetail& detail) {
   State& s = *state_;
   const Model& m = *s.model;
   if (stage != Stage::skinning && stage != Stage::blend_shapes && stage != Stage::refinement)
@@ -425,6 +430,9 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
     if (!(detail.band_attenuation[b] >= 0.0f && detail.band_attenuation[b] <= 1.0f))
       bad(std::string("evaluate: the ") + band_names[b] + " band's attenuation is " +
           std::to_string(detail.band_attenuation[b]) + ", expected 0..1");
+  if (!(detail.body_collision >= 0.0f && detail.body_collision <= 1.0f))
+    bad("evaluate: the body-collision distance is " + std::to_string(detail.body_collision) +
+        " m, expected 0..1");
   const bool attenuate = detail.band_attenuation[0] > 0.0f || detail.band_attenuation[1] > 0.0f ||
                          detail.band_attenuation[2] > 0.0f;
   const float* attenuation = attenuate ? detail.band_attenuation : nullptr;  // null: nothing to split
@@ -484,6 +492,7 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);
       }
+      if (detail.body_collision > 0.0f) s.collision.apply(s.skin, detail.body_collision, staged);
       previous_slot = slot;
     }
     s.write_batch(first, begin, batch, outputs);

@@ -49,8 +49,9 @@ struct EvaluateOutputs {
   OutputBuffer low, mid, high;    // band split of the positions (prepared garment only)
 };
 
-// The refinement's level of detail (refinement stage; docs/runtime.md).
-struct RefinementDetail {
+// What a host may skip or add per call (docs/runtime.md): the refinement's
+// level of detail, and the body-collision post-pass.
+struct EvaluateDetail {
   // k >= 1: the refinement runs on frames t with t % k == 0 and its offsets,
   // in the heading frame, are held over the skinned positions of the k - 1
   // frames after.
@@ -58,6 +59,10 @@ struct RefinementDetail {
   // Fraction of the offsets' low, mid and high band removed, each in [0, 1]
   // (needs a prepared garment when any is above 0).
   float band_attenuation[3] = {0.0f, 0.0f, 0.0f};
+  // > 0: after the stage, garment vertices inside the body or closer to it
+  // than this many metres move out along the body normal
+  // (runtime/body_collision.h); 0: off.
+  float body_collision = 0.0f;
 };
 
 class Instance {
@@ -78,7 +83,7 @@ class Instance {
   // and joint named), NOT_PREPARED (band outputs on an unprepared garment),
   // NUMERICAL (a non-finite output; nothing is written for that batch).
   void evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
-                const EvaluateOutputs& outputs, const RefinementDetail& detail = {});
+                const EvaluateOutputs& outputs, const EvaluateDetail& detail = {});
 
   int32_t vertex_count() const;
   int32_t joint_count() const;

@@ -223,7 +223,8 @@ PIN(pleat_evaluate_options, struct_size, 0);
 PIN(pleat_evaluate_options, stage, 4);
 PIN(pleat_evaluate_options, refinement_interval, 8);
 PIN(pleat_evaluate_options, band_attenuation, 12);
-SIZE(pleat_evaluate_options, 24);
+PIN(pleat_evaluate_options, body_collision_distance, 24);
+SIZE(pleat_evaluate_options, 28);
 
 PIN(pleat_evaluate_outputs, struct_size, 0);
 PIN(pleat_evaluate_outputs, positions, 8);

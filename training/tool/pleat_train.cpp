@@ -113,9 +113,10 @@ std::string model_label(const std::string& path, const std::vector<std::string>&
 
 std::string table_row(const std::string& name, const pleat::MetricsResult& m) {
   char row[512];
-  std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+  std::snprintf(row, sizeof row,
+                "| %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.2f |\n",
                 name.c_str(), m.e_verts_cm, m.e_vnorm_deg, m.e_fnorm_deg, m.e_edge_percent, m.e_curv,
-                m.e_low_cm, m.e_mid_cm, m.e_high_cm, m.self_collision_percent);
+                m.e_low_cm, m.e_mid_cm, m.e_high_cm, m.self_collision_percent, m.body_penetration_percent);
   return row;
 }
 
@@ -185,7 +186,7 @@ int evaluate(int argc, char** argv) {
         "\n### " + title + ": " + std::to_string(dirs.size()) + " sequences, " +
         std::to_string(rows.lbs.frame_count) + " frames\n\n" +
         "| | E_verts cm | E_vnorm deg | E_fnorm deg | E_edge % | E_curv | E_low cm | E_mid cm | E_high cm | "
-        "self-collision % |\n|---|---|---|---|---|---|---|---|---|---|\n" +
+        "self-collision % | body penetration % |\n|---|---|---|---|---|---|---|---|---|---|---|\n" +
         table_row("LBS (nearest body weights)", rows.lbs);
     std::vector<std::string> with_twin, twins;
     for (const std::string& d : dirs)
