@@ -18,6 +18,7 @@
 #include "io/atomic_file.h"
 #include "io/sequence.h"
 #include "plan.h"
+#include "preview.h"
 #include "sequence_inputs.h"
 
 namespace pleat::datagen {
@@ -256,6 +257,24 @@ void write_report(const std::string& out, const std::vector<Job>& jobs,
   write_json(out + "/splits.json", splits);
 }
 
+// preview.png: the first test sequence of splits.json (else the first of any
+// split), four frames. A failed preview does not fail the data set.
+void write_preview(const std::string& out, bool progress) {
+  std::ifstream in(out + "/splits.json");
+  const Json splits = Json::parse(in, nullptr, false);
+  std::string first;
+  for (const char* split : {"test", "validation", "train"})
+    if (first.empty() && splits.is_object() && splits.contains(split) && !splits[split].empty())
+      first = splits[split][0].get<std::string>();
+  if (first.empty()) return;
+  try {
+    preview_sequence(out + "/" + first, out + "/preview.png", 4);
+    if (progress) std::fprintf(stderr, "preview.png: %s\n", first.c_str());
+  } catch (const Error& e) {
+    std::fprintf(stderr, "preview.png not written: %s\n", e.what());
+  }
+}
+
 }  // namespace
 
 int GenerateReport::count(const std::string& status) const {
@@ -354,7 +373,10 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
     for (std::thread& t : threads) t.join();
     if (options.progress && tty) std::fprintf(stderr, "\r\033[K");
   }
-  if (!options.dry_run) write_report(out, jobs, outcomes);
+  if (!options.dry_run) {
+    write_report(out, jobs, outcomes);
+    write_preview(out, options.progress);
+  }
   report.sequences = std::move(outcomes);
   return report;
 }

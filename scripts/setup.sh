@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev libspectra-dev libopenblas-dev
   libassimp-dev libflatbuffers-dev flatbuffers-compiler libgtest-dev libminizip-dev zlib1g-dev
   python3-numpy python3-scipy python3-matplotlib
-  nlohmann-json3-dev libtinygltf-dev
+  nlohmann-json3-dev libtinygltf-dev libpng-dev
   libtorch-dev libopenblas0-pthread
   abigail-tools
   blender

@@ -135,6 +135,10 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
   std::ifstream splits_file(dir + "/set/splits.json");
   const nlohmann::json splits = nlohmann::json::parse(splits_file);
   EXPECT_EQ(splits["train"].size(), 2u);
+  std::ifstream preview(dir + "/set/preview.png", std::ios::binary);
+  char magic[4] = {};
+  preview.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the data set's contact sheet";
 
   // A folder from another job (its hash differs) is redone.
   nlohmann::json meta;

@@ -142,8 +142,17 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(text.find("### Test split: 1 sequences"), std::string::npos) << text;
   EXPECT_NE(text.find("| model |"), std::string::npos) << "a row per model, named by its file" << text;
   EXPECT_EQ(text.find("held-out garments"), std::string::npos) << "no held-out garment in this set";
-  EXPECT_EQ(lines(root + "/report.md"), 19)
-      << "per split: blank, title, blank, header, rule, LBS, noise floor, the model; blank, two summaries";
+  EXPECT_EQ(lines(root + "/report.md"), 21)
+      << "per split: blank, title, blank, header, rule, LBS, noise floor, the model; blank, the preview; blank, "
+         "two summaries";
+  EXPECT_NE(text.find("![model (blue) and the simulation (orange) on skirt_walk, frames 0, 15 and 30]"
+                      "(report_preview.png)"),
+            std::string::npos)
+      << text;
+  std::ifstream png(root + "/report_preview.png", std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the preview beside the report";
   const std::string floor_row = "| noise floor (twin simulations, 1 of 1 sequences) | ";
   ASSERT_NE(text.find(floor_row), std::string::npos) << text;
   const double floor = std::stod(text.substr(text.find(floor_row) + floor_row.size()));

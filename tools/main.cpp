@@ -45,6 +45,9 @@ const char* kUsage =
     "                                   runs pleat-datagen; --help for its options)\n"
     "  import-sequences config.json     training sequences from any simulator's point caches\n"
     "                                   (PC2, MDD, OBJ, glTF; docs/pipeline.md; runs pleat-datagen)\n"
+    "  preview <sequence | cache> -o sheet.png   a PNG contact sheet, front and side, of a\n"
+    "                                   training sequence or a bake (--garment G.obj --body B\n"
+    "                                   --motion M for a cache; runs pleat-datagen)\n"
     "  version                          print the library version\n";
 
 }  // namespace
@@ -75,7 +78,7 @@ int main(int argc, char** argv) {
                            1);
     if (command == "datagen")
       return run_companion("pleat-datagen", "build the datagen target", argc, argv, 2);
-    if (command == "import-sequences")
+    if (command == "import-sequences" || command == "preview")
       return run_companion("pleat-datagen", "build the datagen target", argc, argv, 1);
     throw CliError{"unknown command '" + command + "'\n\n" + kUsage, 2};
   } catch (const CliError& e) {

@@ -122,21 +122,25 @@ MetricsResult twin_difference(const Dataset& data, const Dataset& twins) {
   return total;
 }
 
+std::vector<float> model_frames(const TrainingSequence& s, const std::shared_ptr<const runtime::Model>& model,
+                                runtime::Stage stage, const runtime::InstanceOptions& options) {
+  runtime::Instance instance(model, s.garment, s.body, options);
+  const int64_t n = instance.vertex_count(), batch = instance.max_batch();
+  std::vector<float> predicted(static_cast<size_t>(s.frame_count() * n * 3));
+  const runtime::PoseSequence poses = s.poses();
+  for (int64_t f = 0; f < s.frame_count(); f += batch) {
+    runtime::EvaluateOutputs out;
+    out.positions = {predicted.data() + f * n * 3, static_cast<size_t>(n * 3)};
+    instance.evaluate(poses, f, std::min(batch, s.frame_count() - f), stage, out);
+  }
+  return predicted;
+}
+
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
                             runtime::Stage stage, const runtime::InstanceOptions& options) {
   MetricsResult total;
-  for (const TrainingSequence& s : data.sequences()) {
-    runtime::Instance instance(model, s.garment, s.body, options);
-    const int64_t n = instance.vertex_count(), batch = instance.max_batch();
-    std::vector<float> predicted(static_cast<size_t>(s.frame_count() * n * 3));
-    const runtime::PoseSequence poses = s.poses();
-    for (int64_t f = 0; f < s.frame_count(); f += batch) {
-      runtime::EvaluateOutputs out;
-      out.positions = {predicted.data() + f * n * 3, static_cast<size_t>(n * 3)};
-      instance.evaluate(poses, f, std::min(batch, s.frame_count() - f), stage, out);
-    }
-    accumulate(&total, sequence_metrics(s, predicted.data()));
-  }
+  for (const TrainingSequence& s : data.sequences())
+    accumulate(&total, sequence_metrics(s, model_frames(s, model, stage, options).data()));
   return total;
 }
 

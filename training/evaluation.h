@@ -58,6 +58,11 @@ double worst_ratio(const MetricsResult& model, const MetricsResult& baseline);
 // The model run by the runtime (runtime/instance.h, up to `stage`, as a host
 // would run it: by default with top-4 skinning) on every sequence,
 // frame-weighted over the data set.
+// One sequence run by the runtime: frame_count x N x 3 floats.
+std::vector<float> model_frames(const TrainingSequence& s, const std::shared_ptr<const runtime::Model>& model,
+                                runtime::Stage stage = runtime::Stage::refinement,
+                                const runtime::InstanceOptions& options = {});
+
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
                             runtime::Stage stage = runtime::Stage::refinement,
                             const runtime::InstanceOptions& options = {});

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <string>
 #include <thread>
 
@@ -18,6 +19,7 @@
 #include "core/error.h"
 #include "generate.h"
 #include "import_sequences.h"
+#include "preview.h"
 
 namespace {
 
@@ -31,7 +33,11 @@ const char* kUsage =
     "  --dry-run     print the plan and stop\n"
     "config.json: docs/datagen.md\n"
     "       pleat-datagen import-sequences config.json [--quiet]\n"
-    "  training sequences from other simulators' point caches (docs/pipeline.md)\n";
+    "  training sequences from other simulators' point caches (docs/pipeline.md)\n"
+    "       pleat-datagen preview <sequence folder | cache> -o sheet.png [--frames N]\n"
+    "                     [--garment G.obj --body B --motion M --map F --first N --shape a=1 --rig R --fps "
+    "F]\n"
+    "  a PNG contact sheet, front and side, of a sequence or a bake\n";
 
 int positive(const char* text, const char* option) {
   char* end = nullptr;
@@ -39,6 +45,68 @@ int positive(const char* text, const char* option) {
   if (*end != '\0' || v < 1 || v > 256)
     throw std::invalid_argument(std::string(option) + " needs a count in [1, 256]");
   return static_cast<int>(v);
+}
+
+// pleat-datagen preview <sequence folder | cache> -o sheet.png [--frames N]
+//   [--garment G.obj --body B --motion M [--map F] [--first N] [--shape a=1,b=0.5] [--rig R] [--fps F]]
+int run_preview(int argc, char** argv) {
+  std::string input, output;
+  int frames = 4;
+  pleat::datagen::BakePreview bake;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    const bool has_value = i + 1 < argc;
+    const auto value = [&] { return std::string(argv[++i]); };
+    if (a == "-o" && has_value)
+      output = value();
+    else if (a == "--frames" && has_value)
+      frames = positive(argv[++i], "--frames");
+    else if (a == "--garment" && has_value)
+      bake.garment = value();
+    else if (a == "--body" && has_value)
+      bake.body = value();
+    else if (a == "--motion" && has_value)
+      bake.motion = value();
+    else if (a == "--map" && has_value)
+      bake.map = value();
+    else if (a == "--rig" && has_value)
+      bake.rig = value();
+    else if (a == "--first" && has_value)
+      bake.first = std::stoll(value());
+    else if (a == "--fps" && has_value)
+      bake.frame_rate = std::stod(value());
+    else if (a == "--shape" && has_value) {
+      std::string spec = value(), item;
+      for (size_t start = 0; start <= spec.size();) {
+        const size_t end = std::min(spec.find(',', start), spec.size());
+        item = spec.substr(start, end - start);
+        const size_t eq = item.find('=');
+        if (eq == std::string::npos)
+          throw std::invalid_argument("--shape expects name=value pairs, got '" + item + "'");
+        bake.shape.emplace_back(item.substr(0, eq), std::stod(item.substr(eq + 1)));
+        start = end + 1;
+      }
+    } else if (input.empty() && a[0] != '-')
+      input = a;
+    else
+      throw std::invalid_argument("preview: unknown or incomplete option '" + a + "'");
+  }
+  if (input.empty() || output.empty())
+    throw std::invalid_argument(
+        "usage: preview <sequence folder | cache> -o sheet.png [--frames N] [--garment G "
+        "--body B --motion M ...]");
+  if (input.find('#') == std::string::npos && !std::filesystem::exists(input))
+    pleat::fail(PLEAT_ERROR_IO, "preview: '" + input + "' does not exist");
+  if (std::filesystem::is_directory(input)) {
+    pleat::datagen::preview_sequence(input, output, frames);
+  } else {
+    if (bake.garment.empty() || bake.body.empty() || bake.motion.empty())
+      throw std::invalid_argument("preview of a cache needs --garment, --body and --motion");
+    bake.cache = input;
+    pleat::datagen::preview_bake(bake, output, frames);
+  }
+  std::printf("wrote %s\n", output.c_str());
+  return 0;
 }
 
 }  // namespace
@@ -49,6 +117,7 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, argc < 2 ? stderr : stdout);
       return argc < 2 ? 2 : 0;
     }
+    if (std::strcmp(argv[1], "preview") == 0) return run_preview(argc, argv);
     if (std::strcmp(argv[1], "import-sequences") == 0) {
       if (argc < 3 || argc > 4 || (argc == 4 && std::strcmp(argv[3], "--quiet") != 0))
         throw std::invalid_argument("usage: import-sequences config.json [--quiet]");

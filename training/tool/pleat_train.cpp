@@ -37,6 +37,7 @@
 #include "core/error.h"
 #include "evaluation.h"
 #include "io/atomic_file.h"
+#include "io/contact_sheet.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
 
@@ -139,6 +140,36 @@ const std::vector<std::string>& split_folders(const pleat::training::TrainerConf
   throw std::invalid_argument(std::string(flag) + " takes train, validation and test, not '" + split + "'");
 }
 
+// A contact sheet beside the report (report_preview.png): the first model
+// (blue) and the simulation (orange) on three frames of the split's first
+// sequence; returns the Markdown that shows it.
+std::string preview(const pleat::training::TrainerConfig& c, const std::string& split,
+                    const std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>& model,
+                    const pleat::runtime::InstanceOptions& options, const std::string& report_path) {
+  const std::string dir = split_folders(c, split, "--splits").front();
+  const pleat::training::Dataset data({dir});
+  const pleat::training::TrainingSequence& s = data.sequences().front();
+  const std::vector<float> predicted =
+      pleat::training::model_frames(s, model.second, pleat::runtime::Stage::refinement, options);
+  const torch::Tensor truth = s.truth.contiguous(), body = s.body_positions.contiguous();
+  const int64_t n = s.garment->rest.vertex_count(), nb = body.size(1), last = s.frame_count() - 1;
+  std::vector<std::vector<pleat::SheetMesh>> sheet;
+  for (int64_t f : {int64_t{0}, last / 2, last}) {
+    const pleat::SheetMesh posed{
+        body.data_ptr<float>() + f * nb * 3, nb, &s.body.rest.triangles, {190, 190, 190}};
+    sheet.push_back({posed, {predicted.data() + f * n * 3, n, &s.garment->rest.triangles, {70, 120, 200}}});
+    sheet.push_back(
+        {posed, {truth.data_ptr<float>() + f * n * 3, n, &s.garment->rest.triangles, {220, 130, 50}}});
+  }
+  const std::filesystem::path png =
+      std::filesystem::path(report_path).replace_extension("").string() + "_preview.png";
+  pleat::write_contact_sheet(png.string(), sheet);
+  return "\n![" + model.first + " (blue) and the simulation (orange) on " +
+         std::filesystem::path(dir).filename().string() + ", frames 0, " + std::to_string(last / 2) +
+         " and " + std::to_string(last) + "](" + png.filename().string() + ")\n";
+}
+
+
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
@@ -229,6 +260,8 @@ int evaluate(int argc, char** argv) {
       section("Test, held-out garments", "test_held_out", held_out);
     }
   }
+  if (!output.empty() && !loaded.empty())
+    report += preview(c, splits.back(), loaded.front(), options, output);
   // One machine-readable line per model and split (issue 22's report format).
   report += "\n";
   for (const SplitRows& rows : summary)
