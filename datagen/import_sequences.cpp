@@ -4,10 +4,9 @@
 #include <cstdio>
 #include <fstream>
 
-#include "body/body_source.h"
-#include "body/motion_file.h"
 #include "body/motion_ops.h"
 #include "capi/pleat.h"
+#include "character_clip.h"
 #include "config_fields.h"
 #include "io/atomic_file.h"
 #include "io/obj_reader.h"
@@ -49,16 +48,10 @@ SequenceData import_one(const ImportConfig& config, const ImportEntry& e) {
   read_cache(e.cache, CacheFormat::automatic, d.garment_frames.data(), 0, d.garment_frames.size());
   for (float& x : d.garment_frames) x = static_cast<float>(x * e.unit_scale);
 
-  BodySource source = load_body_source(e.body, PLEAT_BODY_AUTO, rig_of(e.rig));
-  const Body body = e.shape.empty() ? source.body : source.reshape(shape_values(source.body, e.shape));
-  RetargetOptions options;
-  JointMap map;
-  if (!e.map.empty()) {
-    map = read_joint_map(e.map);
-    options.map = &map;
-  }
-  const Motion clip = retarget_motion(resample_motion(read_motion_file(e.motion).motion, config.frame_rate),
-                                      body.skeleton, options);
+  const CharacterClip character =
+      load_character_clip(e.body, e.rig, e.shape, e.motion, e.map, config.frame_rate);
+  const Body& body = character.body;
+  const Motion& clip = character.clip;
   if (e.first + frames > clip.frame_count)
     reject("'" + e.cache + "' has " + std::to_string(frames) + " frames, the clip '" + e.motion + "' has " +
            std::to_string(clip.frame_count - std::min(e.first, clip.frame_count)) + " from frame " +

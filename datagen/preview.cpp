@@ -4,9 +4,9 @@
 #include <filesystem>
 
 #include "body/body_source.h"
-#include "body/motion_file.h"
 #include "body/motion_ops.h"
 #include "capi/pleat.h"
+#include "character_clip.h"
 #include "core/error.h"
 #include "io/contact_sheet.h"
 #include "io/obj_reader.h"
@@ -61,17 +61,9 @@ void preview_bake(const BakePreview& b, const std::string& png, int count) {
                                  b.garment + "' " + std::to_string(garment.vertex_count()));
   std::vector<float> frames(static_cast<size_t>(header.frame_count * header.vertex_count * 3));
   read_cache(b.cache, CacheFormat::automatic, frames.data(), 0, frames.size());
-  BodySource source = load_body_source(b.body, PLEAT_BODY_AUTO,
-                                       b.rig == "default" ? PLEAT_RIG_MAKEHUMAN_DEFAULT : PLEAT_RIG_CMU_MB);
-  const Body body = b.shape.empty() ? source.body : source.reshape(shape_values(source.body, b.shape));
-  RetargetOptions options;
-  JointMap map;
-  if (!b.map.empty()) {
-    map = read_joint_map(b.map);
-    options.map = &map;
-  }
-  const Motion clip = retarget_motion(resample_motion(read_motion_file(b.motion).motion, b.frame_rate),
-                                      body.skeleton, options);
+  const CharacterClip character = load_character_clip(b.body, b.rig, b.shape, b.motion, b.map, b.frame_rate);
+  const Body& body = character.body;
+  const Motion& clip = character.clip;
   if (b.first + header.frame_count > clip.frame_count)
     fail(PLEAT_ERROR_INVALID_ARGUMENT,
          "'" + b.cache + "' has " + std::to_string(header.frame_count) + " frames, the clip '" + b.motion +
