@@ -191,7 +191,8 @@ TEST_F(MeshCaches, ReadsAHandBuiltGltfAtItsKeys) {
 
 TEST_F(MeshCaches, RejectsBrokenGltfNamingTheField) {
   float y[64];
-  const auto broken = [&](const std::function<void(HandBuiltGltf*)>& damage, pleat_status status, const char* part) {
+  const auto broken = [&](const std::function<void(HandBuiltGltf*)>& damage, pleat_status status,
+                          const char* part) {
     HandBuiltGltf g = hand_built(false);
     damage(&g);
     save(g, dir_);

@@ -142,9 +142,9 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(text.find("### Test split: 1 sequences"), std::string::npos) << text;
   EXPECT_NE(text.find("| model |"), std::string::npos) << "a row per model, named by its file" << text;
   EXPECT_EQ(text.find("held-out garments"), std::string::npos) << "no held-out garment in this set";
-  EXPECT_EQ(lines(root + "/report.md"), 21)
-      << "per split: blank, title, blank, header, rule, LBS, noise floor, the model; blank, the preview; blank, "
-         "two summaries";
+  EXPECT_EQ(lines(root + "/report.md"), 21) << "per split: blank, title, blank, header, rule, LBS, noise "
+                                               "floor, the model; blank, the preview; blank, "
+                                               "two summaries";
   EXPECT_NE(text.find("![model (blue) and the simulation (orange) on skirt_walk, frames 0, 15 and 30]"
                       "(report_preview.png)"),
             std::string::npos)

@@ -169,7 +169,6 @@ std::string preview(const pleat::training::TrainerConfig& c, const std::string& 
          " and " + std::to_string(last) + "](" + png.filename().string() + ")\n";
 }
 
-
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
