@@ -250,5 +250,21 @@ int main(int argc, char** argv) {
     std::printf("  every %d frame(s) %9.3f %7.3f  (%.0f fps)\n", interval, t * 1e3, t / every, 1.0 / t);
   }
   std::printf("  blend shapes only %9.3f %7.3f\n", blend * 1e3, blend / every);
+
+  // The body-collision post-pass (pleat_evaluate_options.body_collision_distance)
+  // on the skinning and full stages, against the same stage without it.
+  std::printf("\nbody-collision post-pass (2 mm), same instance (ms/frame; added ms)\n");
+  for (Stage stage : {Stage::skinning, Stage::refinement}) {
+    const auto time = [&](float distance) {
+      EvaluateDetail detail;
+      detail.body_collision = distance;
+      return pleat_bench::median_seconds(
+                 [&] { lod.evaluate(poses, frames - 16, 8, stage, lod_outputs, detail); }, reps) /
+             8.0;
+    };
+    const double without = time(0.0f), with = time(0.002f);
+    std::printf("  %-14s %9.3f -> %9.3f  (+%.3f)\n", stage == Stage::skinning ? "skinning" : "full",
+                without * 1e3, with * 1e3, (with - without) * 1e3);
+  }
   return 0;
 }

@@ -35,8 +35,9 @@ std::vector<Eigen::Vector3f> area_normals(const float* x, size_t n, const std::v
 double inside_fraction(const float* garment, size_t n, const float* body, size_t nb,
                        const std::vector<uint32_t>& body_triangles) {
   const std::vector<Eigen::Vector3f> normals = area_normals(body, nb, body_triangles);
-  size_t inside = 0;
-  for (size_t v = 0; v < n; ++v) {
+  // Every 4th vertex: the brute-force search is the test's whole cost (ASan).
+  size_t inside = 0, tested = 0;
+  for (size_t v = 0; v < n; v += 4, ++tested) {
     const Eigen::Vector3f x(garment + 3 * v);
     size_t best = 0;
     float best_d2 = INFINITY;
@@ -46,7 +47,7 @@ double inside_fraction(const float* garment, size_t n, const float* body, size_t
     }
     inside += (x - Eigen::Vector3f(body + 3 * best)).dot(normals[best]) < 0.0f;
   }
-  return double(inside) / double(n);
+  return double(inside) / double(tested);
 }
 
 }  // namespace
