@@ -155,6 +155,25 @@ TEST(Cli, InitModelAndBakeWriteAGarmentCache) {
   EXPECT_GT(difference, 0.0);
   EXPECT_LT(difference, 0.05);
 
+  // --body-collision: the dress on this body dips into it; the post-pass
+  // moves those vertices out, by at most the depth of a dip.
+  ASSERT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " bake --model " + dir + "/m.pleat --garment " +
+                                        dress() + " --unit-scale 0.1 --body " + body + " --motion " + clip +
+                                        " --body-collision 0.002 -o " + dir + "/pushed.pc2 2>&1",
+                                    &text),
+            0)
+      << text;
+  std::vector<float> pushed(frames[1].size());
+  pleat::read_cache(dir + "/pushed.pc2", pleat::CacheFormat::automatic, pushed.data(), 0, pushed.size());
+  size_t moved = 0;
+  double largest = 0.0;
+  for (size_t i = 0; i < pushed.size(); ++i) {
+    moved += pushed[i] != frames[1][i];
+    largest = std::max(largest, double(std::abs(pushed[i] - frames[1][i])));
+  }
+  EXPECT_GT(moved, 1000u);
+  EXPECT_LT(largest, 0.1);
+
   EXPECT_EQ(pleat_test::run_command(env("PLEAT_CLI") + " bake --model " + dir + "/m.pleat --garment " +
                                         dress() + " --body " + body + " --motion " + clip +
                                         " --stage wet -o " + dir + "/x.pc2 2>&1",

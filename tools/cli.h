@@ -62,8 +62,9 @@ uint32_t stage_of(const std::string& name);
 
 struct BakeSettings {
   uint32_t stage = PLEAT_STAGE_FULL;
-  uint32_t threads = 0;  // 0: the library's default
-  uint32_t top_k = 0;    // 0: the model's
+  uint32_t threads = 0;         // 0: the library's default
+  uint32_t top_k = 0;           // 0: the model's
+  float body_collision = 0.0f;  // metres; > 0: the body-collision post-pass
 };
 
 // The garment driven through the model by frames [range.first, + count) of

@@ -188,6 +188,7 @@ std::string job_fingerprint(const ConvertManifest& m, const ConvertJob& job,
   Json identity = {{"pleat", PLEAT_VERSION_STRING},
                    {"stage", m.stage},
                    {"top_k", m.top_k},
+                   {"body_collision", m.body_collision},
                    {"model", print(job.garment->model)},
                    {"garment", {print(job.garment->mesh), job.garment->unit_scale}},
                    {"body", {print(job.character->body), job.character->rig, job.character->shape}},
@@ -277,6 +278,7 @@ void bake_job(const ConvertManifest& m, const ConvertJob& job, Assets* assets, P
   settings.stage = stage_of(m.stage);
   settings.threads = m.threads;
   settings.top_k = m.top_k;
+  settings.body_collision = static_cast<float>(m.body_collision);
   const std::vector<float> positions =
       bake_frames(model, garment, body, motion, range, settings,
                   [&](size_t done) { progress->frames(index, job.name, done, range.count); });

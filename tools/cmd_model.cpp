@@ -119,6 +119,7 @@ std::vector<float> bake_frames(const pleat_model* model, const pleat_garment* ga
   pleat_evaluate_options eo{};
   eo.struct_size = sizeof eo;
   eo.stage = settings.stage;
+  eo.body_collision_distance = settings.body_collision;
   std::vector<float> positions(range.count * n * 3);
   const size_t chunk = 64;
   for (size_t f = 0; f < range.count; f += chunk) {
@@ -154,6 +155,7 @@ int run_bake(const Args& args) {
   settings.stage = stage_of(args.get("stage", "full"));
   settings.threads = count_option(args, "threads", 256);
   settings.top_k = count_option(args, "top-k", 1 << 20);
+  settings.body_collision = static_cast<float>(args.number("body-collision", 0.0));
   const std::vector<float> positions =
       bake_frames(model.get(), garment.get(), body.get(), motion.get(), range, settings,
                   [&](size_t done) { std::fprintf(stderr, "\rbaked %zu / %zu frames", done, range.count); });

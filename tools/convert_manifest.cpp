@@ -125,12 +125,14 @@ ConvertManifest read_convert_manifest(const std::string& path) {
   Json root = Json::parse(in, nullptr, false);
   if (root.is_discarded()) throw CliError{path + ": not valid JSON", 2};
   r.only(root, "manifest",
-         {"output", "formats", "stage", "threads", "top_k", "model", "garments", "characters", "clips"});
+         {"output", "formats", "stage", "threads", "top_k", "body_collision", "model", "garments",
+          "characters", "clips"});
   m.output = r.resolve(r.text(root, "manifest", "output", "converted"));
   m.stage = r.text(root, "manifest", "stage", "full");
   stage_of(m.stage);
   m.threads = static_cast<unsigned>(r.number(root, "manifest", "threads", 1, 0, 256));
   m.top_k = static_cast<unsigned>(r.number(root, "manifest", "top_k", 0, 0, 1 << 20));
+  m.body_collision = r.number(root, "manifest", "body_collision", 0.0, 0.0, 1.0);
   const Json formats = root.value("formats", Json::array({"pc2"}));
   if (!formats.is_array() || formats.empty()) r.fail("formats", "must be a non-empty array");
   for (const Json& f : formats) {

@@ -30,6 +30,7 @@ struct ConvertManifest {
   std::vector<std::string> formats;  // pc2, mdd, obj, gltf, glb, usda
   std::string stage = "full";
   unsigned threads = 1, top_k = 0;
+  double body_collision = 0.0;  // metres; > 0: the body-collision post-pass
   std::vector<ConvertGarment> garments;
   std::vector<ConvertCharacter> characters;
   std::vector<ConvertClip> clips;

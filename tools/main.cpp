@@ -32,6 +32,7 @@ const char* kUsage =
     "                                   the garment driven through the model by the motion\n"
     "      --garment file.pleatg|mesh   (--unit-scale S for meshes)  --map joints.txt\n"
     "      --stage skinning|blend-shapes|full (full)  --threads N (1)  --top-k K (model's)\n"
+    "      --body-collision M           push the garment out of the body to M metres (0: off)\n"
     "      --first N --frames N         frame range (earlier frames are history)\n"
     "  convert manifest.json            bake garments x characters x clips into PC2, MDD, OBJ,\n"
     "                                   glTF and USD (docs/pipeline.md); a rerun skips what is done\n"
