@@ -7,11 +7,14 @@
 
 namespace pleat::datagen {
 
+uint32_t makehuman_rig(const std::string& rig) {
+  return rig == "default" ? PLEAT_RIG_MAKEHUMAN_DEFAULT : PLEAT_RIG_CMU_MB;
+}
+
 CharacterClip load_character_clip(const std::string& body, const std::string& rig,
                                   const std::vector<std::pair<std::string, double>>& shape,
                                   const std::string& motion, const std::string& map, double frame_rate) {
-  BodySource source = load_body_source(body, PLEAT_BODY_AUTO,
-                                       rig == "default" ? PLEAT_RIG_MAKEHUMAN_DEFAULT : PLEAT_RIG_CMU_MB);
+  BodySource source = load_body_source(body, PLEAT_BODY_AUTO, makehuman_rig(rig));
   CharacterClip c;
   c.body = shape.empty() ? source.body : source.reshape(shape_values(source.body, shape));
   RetargetOptions options;

@@ -21,10 +21,6 @@ namespace {
   fail(PLEAT_ERROR_FORMAT, what);
 }
 
-uint32_t rig_of(const std::string& rig) {
-  return rig == "default" ? PLEAT_RIG_MAKEHUMAN_DEFAULT : PLEAT_RIG_CMU_MB;
-}
-
 SequenceData import_one(const ImportConfig& config, const ImportEntry& e) {
   SequenceData d;
   d.garment_rest = read_obj_file_order(e.garment);
@@ -92,7 +88,7 @@ SequenceData import_one(const ImportConfig& config, const ImportEntry& e) {
   m.garment_source = e.garment;
   m.body_source = fs::absolute(e.body).string();
   m.body_kind = PLEAT_BODY_AUTO;
-  m.body_rig = rig_of(e.rig);
+  m.body_rig = makehuman_rig(e.rig);
   m.shape = e.shape;
   m.motion_source = e.motion;
   m.motion_first_frame = e.first;

@@ -120,6 +120,9 @@ std::unique_ptr<Binding> bind_inputs(const Model& m, const Garment& g, const Bod
   auto b = std::make_unique<Binding>();
   const int32_t joints = m.joint_count(), n = g.rest.vertex_count();
   b->body_of_model = map_joints(m, body.skeleton, body.source);
+  b->model_of_body.resize(b->body_of_model.size());
+  for (size_t j = 0; j < b->body_of_model.size(); ++j)
+    b->model_of_body[static_cast<size_t>(b->body_of_model[j])] = static_cast<int32_t>(j);
   b->skeleton = body.skeleton;
   b->rest_global = rest_transforms(b->skeleton);
   b->rest_joints.resize(joints, 3);
@@ -155,9 +158,7 @@ std::unique_ptr<Binding> bind_inputs(const Model& m, const Garment& g, const Bod
 
   // Skinning prior: the body's weights around each rest garment vertex.
   if (m.skinning_prior > 0.0f) {
-    std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
-    for (int32_t j = 0; j < joints; ++j) model_of_body[b->body_of_model[j]] = j;
-    b->prior = prior_weights(body, g.rest.vertices, m.skinning_prior_radius, model_of_body);
+    b->prior = prior_weights(body, g.rest.vertices, m.skinning_prior_radius, b->model_of_body);
     b->prior = m.skinning_prior * (b->prior.array() + m.skinning_prior_floor).log();
   }
   b->graph = nn::attention_graph(g.graph);

@@ -20,6 +20,7 @@ namespace pleat::runtime {
 
 struct Binding {
   std::vector<int32_t> body_of_model;  // model joint -> body joint (poses come in body order)
+  std::vector<int32_t> model_of_body;  // its inverse
   Skeleton skeleton;                   // the body's, body order
   Transforms rest_global;              // body order
   Points3d rest_joints;                // J(β), model order

@@ -2,30 +2,26 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 
 #include "core/geometry.h"
 #include "core/nearest_points.h"
+#include "core/topology.h"
 
 namespace pleat::runtime {
 
 BodyCollision::BodyCollision(const Body& body, const Points3f& garment_rest,
                              const std::vector<int32_t>& model_of_body) {
   const int32_t n = static_cast<int32_t>(garment_rest.rows()), nb = body.vertex_count();
-  std::vector<std::set<int32_t>> ring(static_cast<size_t>(nb));
-  for (Eigen::Index t = 0; t < body.rest.triangles.rows(); ++t)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        if (a != b) ring[body.rest.triangles(t, a)].insert(body.rest.triangles(t, b));
+  const Csr ring = edge_graph(unique_edges(body.rest.triangles), nb);
   const std::vector<int32_t> nearest = nearest_points(body.rest.vertices, garment_rest.cast<double>());
 
   // Body vertices used by any garment vertex get a slot, in first-use order.
   std::vector<int32_t> slot(static_cast<size_t>(nb), -1);
   std::vector<int32_t> used;
   for (int32_t v = 0; v < n; ++v) {
-    std::vector<int32_t> mine{nearest[v]};
-    mine.insert(mine.end(), ring[nearest[v]].begin(), ring[nearest[v]].end());
-    for (int32_t b : mine) {
+    const int32_t centre = nearest[v];
+    for (int32_t k = ring.offsets[centre] - 1; k < ring.offsets[centre + 1]; ++k) {
+      const int32_t b = k < ring.offsets[centre] ? centre : ring.indices[k];  // the vertex, then its 1-ring
       if (slot[b] < 0) {
         slot[b] = static_cast<int32_t>(used.size());
         used.push_back(b);

@@ -162,9 +162,7 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   max_batch = options.max_batch;
 
   binding = bind_inputs(m, g, body);
-  std::vector<int32_t> model_of_body(static_cast<size_t>(joints));
-  for (int32_t j = 0; j < joints; ++j) model_of_body[static_cast<size_t>(binding->body_of_model[j])] = j;
-  collision = BodyCollision(body, binding->rest, model_of_body);
+  collision = BodyCollision(body, binding->rest, binding->model_of_body);
   features = FrameFeatures(m, binding->skeleton, binding->body_of_model);
 
   // Body code b: the body encoder over every body vertex, [mean | max], pool.
