@@ -89,6 +89,18 @@ TEST(RuntimeAllocations, EvaluateAllocatesNothing) {
     EXPECT_EQ(pleat_test::allocation_count() - before, 0)
         << "refinement interval 3, high band halved, body-collision post-pass";
   }
+  {  // with a vertex mask (the left half of the grid)
+    std::vector<uint8_t> mask(size_t(n), 0);
+    for (int v = 0; v < n; ++v) mask[size_t(v)] = v % side < side / 2;
+    instance.set_vertex_mask(mask.data());
+    ASSERT_EQ(instance.active_vertex_count(), n / 2);
+    for (Stage stage : {Stage::blend_shapes, Stage::refinement}) {
+      const long before = pleat_test::allocation_count();
+      instance.evaluate(poses, 3, frames - 3, stage, out);
+      EXPECT_EQ(pleat_test::allocation_count() - before, 0) << "vertex mask, stage " << int(stage);
+    }
+    instance.set_vertex_mask(nullptr);
+  }
   // The counter works: binding allocates.
   const long before = pleat_test::allocation_count();
   Instance another(model, garment, body, io);

@@ -21,11 +21,16 @@ struct BenchSetting {
   runtime::Stage stage = runtime::Stage::refinement;
   int32_t top_k = 0;  // 0: the model's default
   runtime::EvaluateDetail detail;
+  // In (0, 1): a vertex mask leaves only the garment vertices below this
+  // fraction of its rest height to the networks (e.g. 0.5: the skirt of a
+  // dress whose bodice is under a jacket); 0: no mask.
+  float active_below_height = 0.0f;
 };
 
 // The settings a bench measures by default: the three stages, top-k 2, 8
 // and every joint, refinement every 2nd, 4th and 8th frame, the
-// refinement's high (and mid) band dropped, the body-collision post-pass.
+// refinement's high (and mid) band dropped, the body-collision post-pass, a
+// vertex mask leaving the lower half.
 std::vector<BenchSetting> default_bench_settings();
 
 struct BenchOptions {

@@ -45,8 +45,8 @@ extern "C" {
 #define PLEAT_VERSION_NUMBER ((PLEAT_VERSION_MAJOR << 16) | (PLEAT_VERSION_MINOR << 8) | PLEAT_VERSION_PATCH)
 /* Version of the function table returned by pleat_get_api(): 1 = garments,
    metrics, caches, bodies, motions; 2 = + models and instances; 3 = +
-   instance_evaluate_motion. */
-#define PLEAT_API_VERSION 3u
+   instance_evaluate_motion; 4 = + instance_set_vertex_mask. */
+#define PLEAT_API_VERSION 4u
 
 /* ---- Status codes -------------------------------------------------------- */
 
@@ -628,6 +628,22 @@ PLEAT_EXPORT pleat_status pleat_instance_evaluate_motion(pleat_instance* instanc
                                                          const pleat_evaluate_options* options,
                                                          const pleat_evaluate_outputs* outputs);
 
+/* Restricts the blend shapes and the refinement to the vertices whose byte
+   in `mask` (vertex_count entries, the instance's) is nonzero: the others
+   keep their skinned positions (what PLEAT_STAGE_SKINNING gives them), and
+   the networks run only on the part of the garment the active vertices
+   depend on (their neighbourhood to the depth of the network's graph
+   layers), so a frozen or hidden region costs little. Active vertices get
+   what they would get without a mask (up to float rounding) unless the
+   model has an offset filter or bands are attenuated: those act on the
+   whole garment, and near the mask's edge the active vertices then differ
+   slightly (docs/runtime.md). Applies to every later evaluate call; NULL, or
+   a mask with every vertex active, clears it. Allocates (call it when the
+   view changes, not per frame). Not thread-safe with other calls on this
+   instance. */
+PLEAT_EXPORT pleat_status pleat_instance_set_vertex_mask(pleat_instance* instance, const uint8_t* mask,
+                                                         size_t vertex_count);
+
 /* ---- Meshes -------------------------------------------------------------- */
 
 /* Writes a triangle mesh as OBJ, atomically. Thread-safe. */
@@ -760,6 +776,9 @@ typedef struct pleat_api {
                                            size_t first_frame, size_t frame_count,
                                            const pleat_evaluate_options* options,
                                            const pleat_evaluate_outputs* outputs);
+  /* restricts the networks to the vertices a mask leaves active (API version 4) */
+  pleat_status (*instance_set_vertex_mask)(pleat_instance* instance, const uint8_t* mask,
+                                           size_t vertex_count);
 } pleat_api;
 
 /* The table for `version`, or NULL if this library does not serve it (a newer

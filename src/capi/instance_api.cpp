@@ -146,6 +146,19 @@ pleat_status pleat_instance_evaluate(pleat_instance* instance, const pleat_poses
   });
 }
 
+pleat_status pleat_instance_set_vertex_mask(pleat_instance* instance, const uint8_t* mask,
+                                            size_t vertex_count) {
+  return guarded(__func__, [&] {
+    require_not_null(instance, "instance");
+    runtime::Instance& in = instance->instance;
+    if (mask)
+      PLEAT_REQUIRE(vertex_count == static_cast<size_t>(in.vertex_count()),
+                    "'vertex_count' is " + std::to_string(vertex_count) + ", the instance's garment has " +
+                        std::to_string(in.vertex_count()) + " vertices");
+    in.set_vertex_mask(mask);
+  });
+}
+
 pleat_status pleat_instance_evaluate_motion(pleat_instance* instance, const pleat_motion* motion,
                                             size_t first_frame, size_t frame_count,
                                             const pleat_evaluate_options* options,

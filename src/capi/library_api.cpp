@@ -96,6 +96,8 @@ const pleat_api* pleat_get_api(uint32_t version) {
       pleat_instance_evaluate,
       // API version 3.
       pleat_instance_evaluate_motion,
+      // API version 4.
+      pleat_instance_set_vertex_mask,
   };
   // Every version up to the current one is served by the same, grown table:
   // older callers only read its prefix.

@@ -17,6 +17,7 @@
 #include "runtime/binding.h"
 #include "runtime/body_collision.h"
 #include "runtime/frame_features.h"
+#include "runtime/vertex_mask.h"
 #include "spectral/band_split.h"
 #include "spectral/blas_threads.h"
 
@@ -136,6 +137,14 @@ struct Instance::State {
   BodyCollision collision;            // the post-pass's candidates and workspace
   BandSplitScratch<float> band_scratch;
 
+  // Vertex mask (empty `masked`: none). The stacks then run on its regions'
+  // subgraphs, their rows compact: fused_masked holds fused_static's rows of
+  // the blend region, region_out a stack's output.
+  VertexMask mask;
+  MatrixRM fused_masked;  // |blend region| x C
+  MatrixRM region_out;    // max region x 3
+  MatrixRM lbs;           // N x 3: the masked vertices' skinned positions (while a mask is set)
+
   void bind(const Body& body, const InstanceOptions& options);
   void check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const;
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
@@ -144,6 +153,8 @@ struct Instance::State {
                       const float* band_attenuation);
   void add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const;
   void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
+  void set_vertex_mask(const uint8_t* flags);
+  void blend_offsets();
 };
 
 void Instance::State::bind(const Body& body, const InstanceOptions& options) {
@@ -270,12 +281,13 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
       top_k_softmax(logits.row(v).data(), joints, k, weights_out + static_cast<size_t>(v) * k,
                     joints_out + static_cast<size_t>(v) * k);
   });
-  if (blend) run_stack(m.blend, binding->graph, fused_static, offsets, stacks, *executor, &blend_first);
+  if (blend) blend_offsets();
   // M̃ = M [T̄; 1] + M [blend_scale B; 0] with M = Σ w_k S_k (3 x 4): the
   // blend shapes' posed displacement is the second term, and the offset
   // filter smooths that (posed, where the skinning weights have mixed in).
   MatrixRM& out = skinned[slot];
   const bool filter = blend && binding->offset_filter;
+  const bool masked = !mask.masked.empty();
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
       float s[12] = {};
@@ -289,6 +301,7 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
       out(v, 1) = s[4] * x + s[5] * y + s[6] * z + s[7];
       out(v, 2) = s[8] * x + s[9] * y + s[10] * z + s[11];
       if (!blend) continue;
+      if (masked) lbs.row(v) = out.row(v);
       const float bx = m.blend_scale * offsets(v, 0), by = m.blend_scale * offsets(v, 1),
                   bz = m.blend_scale * offsets(v, 2);
       const float dx = s[0] * bx + s[1] * by + s[2] * bz, dy = s[4] * bx + s[5] * by + s[6] * bz,
@@ -317,16 +330,30 @@ void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const
   // skin_frame left frame t's posed joints in joint_positions.
   const Eigen::Matrix3f heading = features.heading(poses, t).cast<float>();
   const float fps = static_cast<float>(m.frame_rate);
-  for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
-    for (int32_t v = begin; v < end; ++v) {
+  const bool masked = !mask.masked.empty();
+  const SubGraph& region = mask.refinement;
+  const int32_t rows = masked ? static_cast<int32_t>(region.vertices.size()) : n;
+  for_row_blocks(*executor, rows, [&](int32_t begin, int32_t end) {
+    for (int32_t i = begin; i < end; ++i) {
+      const int32_t v = masked ? region.vertices[static_cast<size_t>(i)] : i;
       Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
       if (previous != nullptr) velocity = (current.row(v) - previous->row(v)).transpose() * fps;
       features.refinement_row(m.refinement.features, heading, velocity, normals.row(v).transpose(),
-                              current.row(v).transpose(), joint_positions, refinement_in.row(v).data());
+                              current.row(v).transpose(), joint_positions, refinement_in.row(i).data());
     }
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });
-  run_stack(m.refinement, binding->graph, refinement_in, refined, stacks, *executor);
+  if (!masked) {
+    run_stack(m.refinement, binding->graph, refinement_in, refined, stacks, *executor);
+  } else {
+    refined.setZero();
+    if (rows > 0) {
+      run_stack(m.refinement, region.graph, refinement_in.topRows(rows), region_out.topRows(rows), stacks,
+                *executor);
+      for (size_t a = 0; a < mask.active.size(); ++a)
+        refined.row(mask.active[a]) = region_out.row(mask.active_in_refinement[a]);
+    }
+  }
   if (binding->offset_filter) binding->offset_filter->apply(refined.data(), 1);
   if (band_attenuation != nullptr) {
     // Band split is linear per coordinate, so it commutes with the heading
@@ -352,6 +379,44 @@ void Instance::State::add_refinement(const PoseSequence& poses, int64_t t, int s
       for (int c = 0; c < 3; ++c) out[v * 3 + c] = current(v, c) + m.refinement_scale * delta[c];
     }
   });
+}
+
+// The blend stack's output B into `offsets`: on the whole garment, or with a
+// mask on the blend region, kept where M̃ must be exact and zero elsewhere.
+void Instance::State::blend_offsets() {
+  const Model& m = *model;
+  if (mask.masked.empty()) {
+    run_stack(m.blend, binding->graph, fused_static, offsets, stacks, *executor, &blend_first);
+    return;
+  }
+  offsets.setZero();
+  const auto rows = static_cast<Index>(mask.blend.vertices.size());
+  if (rows == 0) return;
+  run_stack(m.blend, mask.blend.graph, fused_masked, region_out.topRows(rows), stacks, *executor,
+            &blend_first);
+  for (int32_t i : mask.posed_in_blend)
+    offsets.row(mask.blend.vertices[static_cast<size_t>(i)]) = region_out.row(i);
+}
+
+void Instance::State::set_vertex_mask(const uint8_t* flags) {
+  const Model& m = *model;
+  mask = flags ? make_vertex_mask(binding->graph, flags, static_cast<int32_t>(m.blend.layers.size()),
+                                  static_cast<int32_t>(m.refinement.layers.size()))
+               : VertexMask{};
+  if (mask.masked.empty()) {  // free what an earlier mask held
+    fused_masked = MatrixRM();
+    region_out = MatrixRM();
+    lbs = MatrixRM();
+    return;
+  }
+  fused_masked.resize(static_cast<Index>(mask.blend.vertices.size()), code);
+  for (size_t i = 0; i < mask.blend.vertices.size(); ++i)
+    fused_masked.row(static_cast<Index>(i)) = fused_static.row(mask.blend.vertices[i]);
+  region_out.resize(static_cast<Index>(std::max(mask.blend.vertices.size(), mask.refinement.vertices.size())),
+                    3);
+  lbs.resize(n, 3);
+  stacks.reserve(m.blend, mask.blend.graph);
+  stacks.reserve(m.refinement, mask.refinement.graph);
 }
 
 void Instance::State::write_batch(int64_t first_in_call, int64_t begin, int64_t count,
@@ -490,11 +555,23 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);
       }
+      if (stage != Stage::skinning)
+        for (int32_t v : s.mask.masked)
+          for (int c = 0; c < 3; ++c) staged[v * 3 + c] = s.lbs(v, c);
       if (detail.body_collision > 0.0f) s.collision.apply(s.skin, detail.body_collision, staged);
       previous_slot = slot;
     }
     s.write_batch(first, begin, batch, outputs);
   }
+}
+
+void Instance::set_vertex_mask(const uint8_t* mask) {
+  state_->set_vertex_mask(mask);
+}
+
+int32_t Instance::active_vertex_count() const {
+  const VertexMask& mask = state_->mask;
+  return mask.masked.empty() ? state_->n : static_cast<int32_t>(mask.active.size());
 }
 
 int32_t Instance::vertex_count() const {

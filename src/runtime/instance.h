@@ -85,6 +85,14 @@ class Instance {
   void evaluate(const PoseSequence& poses, int64_t first, int64_t count, Stage stage,
                 const EvaluateOutputs& outputs, const EvaluateDetail& detail = {});
 
+  // Restricts the blend shapes and the refinement to the vertices whose
+  // entry of `mask` (vertex_count() bytes) is nonzero; the others keep the
+  // skinning stage's positions (runtime/vertex_mask.h; docs/runtime.md).
+  // Null, or every vertex active, clears it. Allocates: call it when the
+  // view changes, not per frame.
+  void set_vertex_mask(const uint8_t* mask);
+  int32_t active_vertex_count() const;  // vertex_count() without a mask
+
   int32_t vertex_count() const;
   int32_t joint_count() const;
   int32_t top_k() const;

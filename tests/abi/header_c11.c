@@ -56,7 +56,8 @@ PIN(pleat_api, instance_destroy, 344);
 PIN(pleat_api, instance_get_info, 352);
 PIN(pleat_api, instance_evaluate, 360);
 PIN(pleat_api, instance_evaluate_motion, 368);
-SIZE(pleat_api, 376);
+PIN(pleat_api, instance_set_vertex_mask, 376);
+SIZE(pleat_api, 384);
 
 PIN(pleat_const_frames, data, 0);
 PIN(pleat_const_frames, frame_stride, 8);
