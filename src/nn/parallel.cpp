@@ -1,8 +1,20 @@
 #include "nn/parallel.h"
 
-#include <chrono>
-
 namespace pleat::nn {
+namespace {
+
+// Yields until done() or ThreadPool::kSpin has passed; returns done().
+template <typename Done>
+bool spin(const Done& done) {
+  const auto until = std::chrono::steady_clock::now() + ThreadPool::kSpin;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() >= until) return false;
+    std::this_thread::yield();
+  }
+  return true;
+}
+
+}  // namespace
 
 ThreadPool::ThreadPool(int32_t threads) {
   for (int32_t t = 1; t < threads; ++t) workers_.emplace_back([this] { work(); });
@@ -32,11 +44,7 @@ void ThreadPool::drain() {
 void ThreadPool::work() {
   uint64_t seen = 0;
   for (;;) {
-    const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(50);
-    while (generation_.load(std::memory_order_acquire) == seen &&
-           std::chrono::steady_clock::now() < spin_until) {
-      std::this_thread::yield();
-    }
+    spin([&] { return generation_.load(std::memory_order_acquire) != seen; });
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || generation_.load(std::memory_order_relaxed) != seen; });
@@ -59,6 +67,7 @@ void ThreadPool::run(int32_t tasks, TaskFn fn, void* context) {
     for (int32_t t = 0; t < tasks; ++t) fn(context, t);
     return;
   }
+  spin([&] { return busy_.load(std::memory_order_acquire) == 0; });
   {
     std::unique_lock<std::mutex> lock(mutex_);
     done_.wait(lock, [&] { return busy_ == 0; });  // a late worker of the last run
@@ -71,8 +80,11 @@ void ThreadPool::run(int32_t tasks, TaskFn fn, void* context) {
   }
   wake_.notify_all();
   drain();
+  // Every task has returned once finished_ reaches tasks_; a worker still
+  // inside drain() is waited for by the next run().
+  if (spin([&] { return finished_.load(std::memory_order_acquire) == tasks_; })) return;
   std::unique_lock<std::mutex> lock(mutex_);
-  done_.wait(lock, [&] { return finished_.load(std::memory_order_acquire) == tasks_ && busy_ == 0; });
+  done_.wait(lock, [&] { return finished_.load(std::memory_order_acquire) == tasks_; });
 }
 
 }  // namespace pleat::nn

@@ -3,6 +3,7 @@
 // whose boundaries do not depend on the number of threads, so results are
 // bit-identical whatever executor runs them (serial included).
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -33,9 +34,12 @@ class SerialExecutor final : public Executor {
 };
 
 // threads - 1 persistent workers plus the calling thread. Allocates only in
-// the constructor. An idle worker spins for ~50 us before sleeping on a
-// condition variable, so back-to-back phases (layer after layer) do not pay a
-// futex wake-up each. When kernels run on it, pin OpenBLAS to one thread
+// the constructor. An idle worker, and the calling thread waiting for the
+// last task, spin (yielding) for up to kSpin before sleeping on a condition
+// variable: a frame runs some twenty phases a few hundred microseconds
+// apart, and a futex wake-up on these virtual machines costs as much as a
+// phase (2 threads, 4,096 vertices: 5.9 -> 3.7 ms/frame from 50 to 500 us,
+// docs/benchmarks.md). When kernels run on it, pin OpenBLAS to one thread
 // (spectral/blas_threads.h: SingleThreadedBlas) so the two pools do not
 // fight over the cores.
 class ThreadPool final : public Executor {
@@ -47,6 +51,7 @@ class ThreadPool final : public Executor {
 
   void run(int32_t tasks, TaskFn fn, void* context) override;
   int32_t concurrency() const override { return static_cast<int32_t>(workers_.size()) + 1; }
+  static constexpr auto kSpin = std::chrono::microseconds(500);
 
  private:
   void work();
@@ -57,7 +62,7 @@ class ThreadPool final : public Executor {
   std::condition_variable wake_;
   std::condition_variable done_;
   std::atomic<uint64_t> generation_{0};  // written under mutex_, spun on without it
-  int32_t busy_ = 0;                     // workers inside drain()
+  std::atomic<int32_t> busy_{0};         // workers inside drain(); written under mutex_
   bool stop_ = false;
   TaskFn fn_ = nullptr;
   void* context_ = nullptr;
