@@ -142,6 +142,24 @@ TEST(CapiModel, ResultsDependOnlyOnThePoses) {
   EXPECT_EQ(early, reference);
   EXPECT_EQ(evaluate(one.get(), poses, 4, 1, PLEAT_STAGE_FULL),
             std::vector<float>(reference.begin() + 4 * n, reference.begin() + 5 * n));
+  // Playing on: each call reuses the last call's last frame for its
+  // velocities, but only for the very poses that frame was computed from. A
+  // change to any frame in its motion window (frame 1 for frame 4: 8 frames
+  // back) or to the frame itself between the calls must be seen.
+  const auto played = [&](const Poses& first_call, const Poses& second_call) {
+    InstancePtr player = bind(model.get(), garment.get(), body.get(), 2, 4);
+    evaluate(player.get(), first_call, 0, 5, PLEAT_STAGE_FULL);
+    return evaluate(player.get(), second_call, 5, 4, PLEAT_STAGE_FULL);
+  };
+  for (size_t changed : {1u, 4u}) {
+    Poses other = poses;
+    other.roots[changed * 3] += 0.05f;
+    InstancePtr fresh = bind(model.get(), garment.get(), body.get(), 2, 4);
+    const std::vector<float> want = evaluate(fresh.get(), other, 5, 4, PLEAT_STAGE_FULL);
+    EXPECT_NE(want, late) << "frame " << changed << " matters to frames 5-8";
+    EXPECT_EQ(played(poses, other), want) << "frame " << changed << " changed between the calls";
+  }
+  EXPECT_EQ(played(poses, poses), late);
 
   // The instance keeps model, garment and body alive.
   model.reset();

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "capi/pleat.h"
@@ -115,9 +116,13 @@ struct Instance::State {
   SkinMatrices matrices;     // S, body order
   MatrixRM skin;             // S x 12 float [R | t] rows, model order
   MatrixRM joint_positions;  // S x 3 posed joints, model order
-  MatrixRM window_x;         // window x motion input (one frame's window)
-  nn::GruWorkspace gru;
-  MatrixRM motion_code;  // 1 x C: q^t
+  // Motion codes q^t of a batch's frames, computed in parallel, one window
+  // per task (results cannot depend on the split), with a window and a GRU
+  // workspace per frame of the batch; row max_batch serves frames outside a
+  // batch (history).
+  std::vector<MatrixRM> window_x;  // max_batch + 1, each window x motion input
+  std::vector<nn::GruWorkspace> gru;
+  MatrixRM motion_codes;  // (max_batch + 1) x C
   // F^t never exists: F^t W = (G ⊙ b) (diag(q^t) W), so each frame scales
   // the rows of the skinning head and of the blend stack's first folded
   // projection by q^t (C x S and C x (H d' + 2H) values) instead of N x C.
@@ -145,16 +150,30 @@ struct Instance::State {
   MatrixRM region_out;    // max region x 3
   MatrixRM lbs;           // N x 3: the masked vertices' skinned positions (while a mask is set)
 
+  // M̃ (with blend shapes) of the last frame a call evaluated stays in
+  // skinned[last_slot]; the next call needs it for its first frame's
+  // velocities, so a host playing a clip in calls of any size skins every
+  // frame once. Valid while last_frame >= 0 and the poses it was computed
+  // from (frames [last_frame - window, last_frame], copied into last_inputs)
+  // are bit for bit the next call's.
+  int64_t last_frame = -1;
+  int last_slot = 0;
+  std::vector<float> last_inputs;  // (window + 1) x (S x 4 + 3)
+
   void bind(const Body& body, const InstanceOptions& options);
   void check_poses(const PoseSequence& poses, int64_t begin, int64_t end) const;
+  void motion_code(const PoseSequence& poses, int64_t t, int32_t row);
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
-                  int32_t* joints_out);
+                  int32_t* joints_out, int32_t code_row);
   void refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
                       const float* band_attenuation);
   void add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const;
   void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
   void set_vertex_mask(const uint8_t* flags);
   void blend_offsets();
+  // Compares frame t's inputs with last_inputs, or copies them there.
+  bool same_inputs(const PoseSequence& poses, int64_t t) const;
+  void keep_inputs(const PoseSequence& poses, int64_t t);
 };
 
 void Instance::State::bind(const Body& body, const InstanceOptions& options) {
@@ -203,9 +222,10 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   matrices.resize(static_cast<size_t>(joints));
   skin.resize(joints, 12);
   joint_positions.resize(joints, 3);
-  window_x.resize(window, m.motion_encoder.input_width());
-  gru.reserve(m.motion_encoder, 1);
-  motion_code.resize(1, code);
+  window_x.assign(static_cast<size_t>(max_batch) + 1, MatrixRM(window, m.motion_encoder.input_width()));
+  gru.resize(static_cast<size_t>(max_batch) + 1);
+  for (nn::GruWorkspace& w : gru) w.reserve(m.motion_encoder, 1);
+  motion_codes.resize(max_batch + 1, code);
   skinning_q.resize(code, joints);
   blend_first = m.blend.layers.front();
   logits.resize(n, joints);
@@ -221,6 +241,7 @@ void Instance::State::bind(const Body& body, const InstanceOptions& options) {
   chosen_joint.resize(chosen);
   chosen_weight.resize(chosen);
   staged.resize(max_batch, static_cast<Index>(n) * 3);
+  last_inputs.resize(static_cast<size_t>(window + 1) * (static_cast<size_t>(joints) * 4 + 3));
   if (g.prepared) {
     for (MatrixRM& band : refined_bands) band.resize(n, 3);
     // One split of a full batch grows the scratch to its final size.
@@ -252,23 +273,31 @@ void Instance::State::check_poses(const PoseSequence& poses, int64_t begin, int6
   }
 }
 
-// M̃ of frame t into skinned[slot]: motion code, fusion, skinning weights
-// (top k written to weights_out / joints_out, N x k), blend shapes (stage
-// >= blend_shapes), LBS.
-void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot,
-                                 float* weights_out, int32_t* joints_out) {
+// q^t into motion_codes.row(row), with that row's window and workspace.
+// One frame's window at a time: a batch of windows would change the GEMM
+// shapes and with them the rounding, and results must not depend on batching.
+void Instance::State::motion_code(const PoseSequence& poses, int64_t t, int32_t row) {
   const Model& m = *model;
-  features.motion_window(poses, t, window_x);
-  normalize_rows(m.motion_normalization, window_x, 0, window);
-  // One frame's window at a time: a batch of windows would change the GEMM
-  // shapes and with them the rounding, and results must not depend on batching.
-  nn::gru_window(m.motion_encoder, window_x, window, motion_code, gru);
+  MatrixRM& x = window_x[static_cast<size_t>(row)];
+  features.motion_window(poses, t, x);
+  normalize_rows(m.motion_normalization, x, 0, window);
+  nn::gru_window(m.motion_encoder, x, window, motion_codes.middleRows(row, 1), gru[static_cast<size_t>(row)]);
+}
+
+// M̃ of frame t into skinned[slot]: fusion with the motion code in
+// motion_codes.row(code_row) (computed here when code_row is max_batch),
+// skinning weights (top k written to weights_out / joints_out, N x k), blend
+// shapes (stage >= blend_shapes), LBS.
+void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot,
+                                 float* weights_out, int32_t* joints_out, int32_t code_row) {
+  const Model& m = *model;
+  if (code_row == max_batch) motion_code(poses, t, code_row);
   features.skinning_matrices(poses, t, pose, pose_global, binding->rest_global, matrices, skin,
                              joint_positions);
 
   const int32_t k = top_k;
   const bool blend = stage != Stage::skinning;
-  const auto q = motion_code.row(0).transpose().array();
+  const auto q = motion_codes.row(code_row).transpose().array();
   skinning_q = m.skinning.weight.array().colwise() * q;
   if (blend) blend_first.folded = m.blend.layers.front().folded.array().colwise() * q;
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
@@ -398,8 +427,28 @@ void Instance::State::blend_offsets() {
     offsets.row(mask.blend.vertices[static_cast<size_t>(i)]) = region_out.row(i);
 }
 
+// M̃ of frame t reads frames [t - window, t] (motion window and its root
+// velocities; skinning matrices of t), clamped at 0.
+bool Instance::State::same_inputs(const PoseSequence& poses, int64_t t) const {
+  const int64_t lo = std::max<int64_t>(0, t - window), frames = t - lo + 1;
+  const size_t rotations = static_cast<size_t>(frames * joints * 4), roots = static_cast<size_t>(frames * 3);
+  return std::memcmp(last_inputs.data(), poses.rotations + lo * joints * 4, rotations * sizeof(float)) == 0 &&
+         std::memcmp(last_inputs.data() + rotations, poses.root_positions + lo * 3, roots * sizeof(float)) ==
+             0;
+}
+
+void Instance::State::keep_inputs(const PoseSequence& poses, int64_t t) {
+  const int64_t lo = std::max<int64_t>(0, t - window), frames = t - lo + 1;
+  const size_t rotations = static_cast<size_t>(frames * joints * 4), roots = static_cast<size_t>(frames * 3);
+  std::copy(poses.rotations + lo * joints * 4, poses.rotations + lo * joints * 4 + rotations,
+            last_inputs.data());
+  std::copy(poses.root_positions + lo * 3, poses.root_positions + lo * 3 + roots,
+            last_inputs.data() + rotations);
+}
+
 void Instance::State::set_vertex_mask(const uint8_t* flags) {
   const Model& m = *model;
+  last_frame = -1;  // M̃ depends on the mask's regions
   mask = flags ? make_vertex_mask(binding->graph, flags, static_cast<int32_t>(m.blend.layers.size()),
                                   static_cast<int32_t>(m.refinement.layers.size()))
                : VertexMask{};
@@ -527,26 +576,47 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
 
   const SingleThreadedBlas blas;  // one BLAS thread: the instance's pool owns the cores
   const size_t k = static_cast<size_t>(s.top_k);
+  const int64_t kept_frame = s.last_frame;
+  s.last_frame = -1;            // the slots change below; valid again once this call succeeds
   int previous_slot = -1;       // skinned[] slot holding M̃ of the frame before, once known
   if (first_refined < first) {  // Δ of that earlier frame, as if evaluated in sequence
     if (first_refined > 0)
-      s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
-    s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data());
+      s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data(),
+                   s.max_batch);
+    s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data(), s.max_batch);
     s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0, attenuation);
     if (first_refined == first - 1) previous_slot = 0;  // already the frame before
   }
-  // The frame before the call's first one: its M̃ is needed for velocities.
+  // The frame before the call's first one: its M̃ is needed for velocities
+  // (the last call's last frame, if the slots still hold it for these poses).
   if (refine && first > 0 && previous_slot < 0) {
-    s.skin_frame(poses, first - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data());
-    previous_slot = 1;
+    if (first_refined == first && kept_frame == first - 1 && s.same_inputs(poses, first - 1)) {
+      previous_slot = s.last_slot;
+    } else {
+      s.skin_frame(poses, first - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data(), s.max_batch);
+      previous_slot = 1;
+    }
   }
   for (int64_t begin = first; begin < first + count; begin += s.max_batch) {
     const int64_t batch = std::min<int64_t>(s.max_batch, first + count - begin);
+    struct Codes {
+      State* s;
+      const PoseSequence* poses;
+      int64_t begin;
+    } codes{&s, &poses, begin};
+    s.executor->run(
+        static_cast<int32_t>(batch),
+        [](void* c, int32_t b) {
+          const Codes& ctx = *static_cast<const Codes*>(c);
+          ctx.s->motion_code(*ctx.poses, ctx.begin + b, b);
+        },
+        &codes);
     for (int64_t b = 0; b < batch; ++b) {
       const int64_t t = begin + b;
       const int slot = previous_slot == 0 ? 1 : 0;
       const size_t chosen = static_cast<size_t>(b) * static_cast<size_t>(s.n) * k;
-      s.skin_frame(poses, t, stage, slot, s.chosen_weight.data() + chosen, s.chosen_joint.data() + chosen);
+      s.skin_frame(poses, t, stage, slot, s.chosen_weight.data() + chosen, s.chosen_joint.data() + chosen,
+                   static_cast<int32_t>(b));
       float* staged = s.staged.row(b).data();
       if (refine) {
         if (t % interval == 0)
@@ -562,6 +632,11 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       previous_slot = slot;
     }
     s.write_batch(first, begin, batch, outputs);
+  }
+  if (stage != Stage::skinning) {
+    s.last_frame = first + count - 1;
+    s.last_slot = previous_slot;
+    s.keep_inputs(poses, s.last_frame);
   }
 }
 
