@@ -5,6 +5,7 @@
 // alike, linear blend skinning with any convex weights is exact.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -295,6 +296,66 @@ TEST(CapiModel, BandAttenuationRemovesBandsOfTheRefinement) {
               std::vector<float>{PLEAT_ERROR_INVALID_ARGUMENT});
     EXPECT_NE(std::string(pleat_last_error()).find("band_attenuation[2]' (high)"), std::string::npos)
         << pleat_last_error();
+  }
+}
+
+// Only what is asked for is written: normals alone (no positions buffer)
+// are the area-weighted normals of the positions a positions-only call
+// gives, and the floats between strided frames stay as the host left them.
+TEST(CapiModel, OnlyTheRequestedOutputsAreWritten) {
+  BodyPtr body = chain_body();
+  ModelPtr model = initialised(body.get());
+  const pleat_test::SimpleMesh mesh = garment_mesh();
+  pleat_test::GarmentPtr garment = pleat_test::create_garment(mesh);
+  InstancePtr instance = bind(model.get(), garment.get(), body.get());
+  const float step[3] = {0.02f, 0.0f, 0.01f};
+  const float turn[4] = {0.0f, std::sin(0.2f), 0.0f, std::cos(0.2f)};
+  const Poses poses = root_motion(3, step, turn);
+  const pleat_poses p = poses.view();
+  const size_t n = mesh.vertex_count(), stride = n * 3 + 2;
+  const std::vector<float> positions = evaluate(instance.get(), poses, 0, 3, PLEAT_STAGE_FULL);
+
+  std::vector<float> normals(3 * stride, -7.0f);
+  pleat_evaluate_outputs out{};
+  out.struct_size = sizeof out;
+  out.normals = {normals.data(), stride};
+  const pleat_evaluate_options o = stage_options(PLEAT_STAGE_FULL);
+  ASSERT_EQ(pleat_instance_evaluate(instance.get(), &p, 0, 3, &o, &out), PLEAT_OK) << pleat_last_error();
+  for (size_t f = 0; f < 3; ++f) {
+    const float* x = positions.data() + f * n * 3;
+    std::vector<Eigen::Vector3f> want(n, Eigen::Vector3f::Zero());
+    for (size_t t = 0; t < mesh.triangles.size(); t += 3) {
+      const Eigen::Vector3f a(x + 3 * mesh.triangles[t]), b(x + 3 * mesh.triangles[t + 1]),
+          c(x + 3 * mesh.triangles[t + 2]);
+      for (int k = 0; k < 3; ++k) want[mesh.triangles[t + k]] += (b - a).cross(c - a);
+    }
+    for (size_t v = 0; v < n; ++v)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(normals[f * stride + v * 3 + k], want[v].normalized()[k], 1e-5f)
+            << "frame " << f << " vertex " << v;
+    EXPECT_EQ(normals[f * stride + n * 3], -7.0f) << "frame " << f << ": the gap after the frame";
+    EXPECT_EQ(normals[f * stride + n * 3 + 1], -7.0f);
+  }
+  // Skinning weights alone: a convex combination of at most the instance's top k joints per vertex.
+  std::vector<float> weights(3 * n * kJoints, -1.0f);
+  out = pleat_evaluate_outputs{};
+  out.struct_size = sizeof out;
+  out.skinning_weights = {weights.data(), 0};
+  ASSERT_EQ(pleat_instance_evaluate(instance.get(), &p, 0, 3, &o, &out), PLEAT_OK) << pleat_last_error();
+  pleat_instance_info info{};
+  info.struct_size = sizeof info;
+  ASSERT_EQ(pleat_instance_get_info(instance.get(), &info), PLEAT_OK);
+  for (size_t v = 0; v < 3 * n; ++v) {
+    float sum = 0.0f;
+    uint32_t nonzero = 0;
+    for (uint32_t j = 0; j < kJoints; ++j) {
+      const float w = weights[v * kJoints + j];
+      EXPECT_GE(w, 0.0f);
+      sum += w;
+      nonzero += w > 0.0f;
+    }
+    EXPECT_NEAR(sum, 1.0f, 1e-5f) << v;
+    EXPECT_LE(nonzero, info.top_k) << v;
   }
 }
 
