@@ -20,21 +20,10 @@ namespace {
 
 using MotionPtr = std::unique_ptr<pleat_motion, decltype(&pleat_motion_destroy)>;
 
-std::vector<Eigen::Vector3f> area_normals(const float* x, size_t n, const std::vector<uint32_t>& triangles) {
-  std::vector<Eigen::Vector3f> normals(n, Eigen::Vector3f::Zero());
-  for (size_t t = 0; t < triangles.size(); t += 3) {
-    const Eigen::Vector3f a(x + 3 * triangles[t]), b(x + 3 * triangles[t + 1]), c(x + 3 * triangles[t + 2]);
-    const Eigen::Vector3f face = (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) normals[triangles[t + k]] += face;
-  }
-  for (Eigen::Vector3f& v : normals) v.normalize();
-  return normals;
-}
-
 // Fraction of garment vertices behind the nearest body vertex's normal.
 double inside_fraction(const float* garment, size_t n, const float* body, size_t nb,
                        const std::vector<uint32_t>& body_triangles) {
-  const std::vector<Eigen::Vector3f> normals = area_normals(body, nb, body_triangles);
+  const std::vector<Eigen::Vector3f> normals = pleat_test::area_weighted_normals(body, nb, body_triangles);
   // Every 4th vertex: the brute-force search is the test's whole cost (ASan).
   size_t inside = 0, tested = 0;
   for (size_t v = 0; v < n; v += 4, ++tested) {
@@ -70,7 +59,7 @@ TEST(CapiBodyCollision, ThePostPassMovesATorsoInsideTheBodyOut) {
   // The torso band (40-65 % of the body's height), 1 cm inside the body.
   float lo = INFINITY, hi = -INFINITY;
   for (size_t v = 0; v < nb; ++v) lo = std::min(lo, rest[3 * v + 1]), hi = std::max(hi, rest[3 * v + 1]);
-  const std::vector<Eigen::Vector3f> normals = area_normals(rest.data(), nb, triangles);
+  const std::vector<Eigen::Vector3f> normals = pleat_test::area_weighted_normals(rest.data(), nb, triangles);
   std::vector<int64_t> index(nb, -1);
   pleat_test::SimpleMesh torso;
   for (size_t t = 0; t < triangles.size(); t += 3) {

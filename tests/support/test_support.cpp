@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -81,6 +82,18 @@ SimpleMesh icosphere(int subdivisions, float radius) {
     for (int k = 0; k < 3; ++k) m.positions.push_back(static_cast<float>(p[k] * radius));
   for (auto& tri : f) m.triangles.insert(m.triangles.end(), tri.begin(), tri.end());
   return m;
+}
+
+std::vector<Eigen::Vector3f> area_weighted_normals(const float* x, size_t n,
+                                                   const std::vector<uint32_t>& triangles) {
+  std::vector<Eigen::Vector3f> normals(n, Eigen::Vector3f::Zero());
+  for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Eigen::Vector3f a(x + 3 * triangles[t]), b(x + 3 * triangles[t + 1]), c(x + 3 * triangles[t + 2]);
+    const Eigen::Vector3f face = (b - a).cross(c - a);
+    for (int k = 0; k < 3; ++k) normals[triangles[t + k]] += face;
+  }
+  for (Eigen::Vector3f& v : normals) v.normalize();
+  return normals;
 }
 
 std::string source_dir() {

@@ -27,6 +27,11 @@ SimpleMesh mirrored_x(const SimpleMesh& m);
 // Subdivided icosahedron projected onto a sphere of the given radius.
 SimpleMesh icosphere(int subdivisions, float radius);
 
+// Unit area-weighted vertex normals of n vertices (xyz floats at x): an
+// independent reference for the library's.
+std::vector<Eigen::Vector3f> area_weighted_normals(const float* x, size_t n,
+                                                   const std::vector<uint32_t>& triangles);
+
 // Repository root (PLEAT_SOURCE_DIR from CTest), the asset pack with bodies
 // and motions (PLEAT_ASSET_DIR, by default ../shared/data beside the
 // repository), and a fresh temp folder.
