@@ -34,22 +34,6 @@ const SequenceOutcome& outcome(const GenerateReport& r, const std::string& part)
   throw std::runtime_error("no sequence named like " + part);
 }
 
-// A skirt on `shapes` (a JSON array) in 12 frames of 02_02, one sequence per
-// shape; `settings` (JSON members with a trailing comma) go in first.
-std::string skirt_config(const std::string& dir, const std::string& settings, const std::string& shapes,
-                         int sequences) {
-  const std::string a = pleat_test::asset_dir();
-  return "{" + settings + " \"name\": \"t\", \"body\": \"" + a + "/body\", \"output\": \"" + dir +
-         "/set\",\n \"segment_frames\": 12, \"segments_per_clip\": 1, \"mirror\": false, \"rest_frames\": 3,"
-         " \"blend_frames\": 6, \"sequences\": {\"train\": " +
-         std::to_string(sequences) +
-         "},\n"
-         " \"garments\": [{\"name\": \"skirt\", \"mhclo\": \"" +
-         a + "/garments/helpers_mhclo/skirthelper.mhclo\"}],\n \"shapes\": " + shapes +
-         ",\n \"motions\": [{\"source\": \"" + a + "/motions/cmu_daz/02_02.bvh\", \"map\": \"" +
-         pleat_test::source_dir() + "/data/retarget/cmu_daz.txt\"}]}";
-}
-
 }  // namespace
 
 TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
@@ -62,9 +46,9 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
                          << "/fail' ]; then echo simulated crash; exit 1; fi;; esac\nexec blender \"$@\"\n";
   fs::permissions(wrapper, fs::perms::owner_all);
   std::ofstream(dir + "/fail") << "1";
-  const std::string text =
-      skirt_config(dir, "\"blender\": \"" + wrapper + "\",",
-                   "[{\"name\": \"plain\"}, {\"name\": \"FAILME\", \"values\": {\"weight\": 0.8}}]", 2);
+  const std::string text = pleat_test::skirt_datagen_config(
+      dir, "\"blender\": \"" + wrapper + "\",",
+      "[{\"name\": \"plain\"}, {\"name\": \"FAILME\", \"values\": {\"weight\": 0.8}}]", "{\"train\": 2}");
   const Config config = parse_config(text, dir + "/config.json");
   GenerateOptions options;
   options.progress = false;
@@ -171,9 +155,9 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
 TEST(DatagenBlender, ProxyColliderKeepsTheSkirtOnTheBody) {
   const std::string dir = pleat_test::temp_dir("datagen_proxy");
   const std::string a = pleat_test::asset_dir();
-  const std::string text =
-      skirt_config(dir, "\"collider\": \"" + a + "/body/proxies/female1605/female1605.proxy\",",
-                   "[{\"name\": \"plain\"}]", 1);
+  const std::string text = pleat_test::skirt_datagen_config(
+      dir, "\"collider\": \"" + a + "/body/proxies/female1605/female1605.proxy\",", "[{\"name\": \"plain\"}]",
+      "{\"train\": 1}");
   const Config config = parse_config(text, dir + "/config.json");
   GenerateOptions options;
   options.progress = false;

@@ -237,6 +237,58 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
 // `pleat bench`: every host setting on the test split with its run time and
 // Table I metrics, libtorch on the same weights and LBS, the Pareto front
 // marked; the numbers are the ones `pleat-train evaluate` reports.
+// --against-blender re-simulates the split's first sequence with its datagen
+// config in the same run: the simulation is deterministic, so it matches the
+// stored ground truth, and it is far slower than the model.
+TEST(TrainingCli, BenchAgainstBlenderResimulatesTheGroundTruth) {
+  const std::string root = pleat_test::temp_dir("training_bench_blender");
+  std::ofstream(root + "/datagen.json")
+      << pleat_test::skirt_datagen_config(root, "", "[{\"name\": \"plain\"}]", "{\"train\": 1}");
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(
+                cli() + " datagen " + root + "/datagen.json --jobs 1 --threads 1 --quiet 2>&1", &text),
+            0)
+      << text;
+  ASSERT_EQ(pleat_test::run_command(cli() + " init-model --body " + pleat_test::asset_dir() + "/body -o " +
+                                        root + "/m.pleat 2>&1",
+                                    &text),
+            0)
+      << text;
+  std::ofstream(root + "/schedule.json")
+      << R"({"phases": [{"name": "supervised", "weights": {"vertex": 1}}]})";
+  std::ofstream(root + "/config.json")
+      << R"({"dataset": "set", "schedule": "schedule.json", "output": "run"})";
+  ASSERT_EQ(pleat_test::run_command(
+                cli() + " bench " + root + "/config.json --model " + root + "/m.pleat -o " + root +
+                    "/bench --split train --repeats 1 --threads 1 --no-libtorch --against-blender " + root +
+                    "/datagen.json 2>&1",
+                &text),
+            0)
+      << text;
+  std::ifstream md(root + "/bench/bench.md");
+  const std::string markdown((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const size_t at = markdown.find("Against Blender, same run:");
+  ASSERT_NE(at, std::string::npos) << markdown;
+  const std::string line = markdown.substr(at);
+  const size_t ratio = line.find("**");
+  ASSERT_NE(ratio, std::string::npos) << line;
+  EXPECT_GT(std::stod(line.substr(ratio + 2)), 10.0) << line;
+  const size_t match = line.find("ground truth to ");
+  ASSERT_NE(match, std::string::npos) << line;
+  EXPECT_LT(std::stod(line.substr(match + 16)), 1e-6) << line;
+
+  // A datagen config that does not make this set: exit 2, named.
+  std::ofstream(root + "/other.json") << pleat_test::skirt_datagen_config(
+      root + "/elsewhere", "", "[{\"name\": \"other\"}]", "{\"train\": 1}");
+  EXPECT_NE(pleat_test::run_command(
+                cli() + " bench " + root + "/config.json --model " + root + "/m.pleat -o " + root +
+                    "/bench2 --split train --repeats 1 --threads 1 --no-libtorch --against-blender " + root +
+                    "/other.json 2>&1",
+                &text),
+            0);
+  EXPECT_NE(text.find("did not produce sequence"), std::string::npos) << text;
+}
+
 TEST(TrainingCli, BenchMeasuresEverySettingAgainstTheGroundTruth) {
   const std::string root = pleat_test::temp_dir("training_bench");
   pleat_test::write_skirt_walk(root + "/set");

@@ -42,6 +42,8 @@ const char* kUsage =
     "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
     "  bench config.json --model M -o DIR  run time against error on the test split: every\n"
     "                                   host setting, libtorch and LBS (pleat-train; docs/benchmarks.md)\n"
+    "      --threads N --repeats N --no-libtorch\n"
+    "      --against-blender datagen.json   + Blender re-simulating the first test sequence\n"
     "  datagen config.json [--jobs N]   simulate a training data set in Blender (docs/datagen.md;\n"
     "                                   runs pleat-datagen; --help for its options)\n"
     "  import-sequences config.json     training sequences from any simulator's point caches\n"

@@ -96,6 +96,18 @@ std::vector<Eigen::Vector3f> area_weighted_normals(const float* x, size_t n,
   return normals;
 }
 
+std::string skirt_datagen_config(const std::string& dir, const std::string& settings,
+                                 const std::string& shapes, const std::string& sequences) {
+  const std::string a = asset_dir();
+  return "{" + settings + " \"name\": \"t\", \"body\": \"" + a + "/body\", \"output\": \"" + dir +
+         "/set\",\n \"segment_frames\": 12, \"segments_per_clip\": 1, \"mirror\": false, \"rest_frames\": 3,"
+         " \"blend_frames\": 6, \"sequences\": " +
+         sequences + ",\n \"garments\": [{\"name\": \"skirt\", \"mhclo\": \"" + a +
+         "/garments/helpers_mhclo/skirthelper.mhclo\"}],\n \"shapes\": " + shapes +
+         ",\n \"motions\": [{\"source\": \"" + a + "/motions/cmu_daz/02_02.bvh\", \"map\": \"" +
+         source_dir() + "/data/retarget/cmu_daz.txt\"}]}";
+}
+
 std::string source_dir() {
   const char* dir = std::getenv("PLEAT_SOURCE_DIR");
   if (!dir) throw std::runtime_error("PLEAT_SOURCE_DIR is not set: run the tests through ctest");

@@ -32,6 +32,13 @@ SimpleMesh icosphere(int subdivisions, float radius);
 std::vector<Eigen::Vector3f> area_weighted_normals(const float* x, size_t n,
                                                    const std::vector<uint32_t>& triangles);
 
+// A pleat datagen config: a skirt on `shapes` (a JSON array) in 12 frames
+// of 02_02 (3 rest and 6 blend frames before), written to dir/set;
+// `sequences` is its JSON object of counts per split, `settings` (JSON
+// members with a trailing comma) go in first.
+std::string skirt_datagen_config(const std::string& dir, const std::string& settings,
+                                 const std::string& shapes, const std::string& sequences);
+
 // Repository root (PLEAT_SOURCE_DIR from CTest), the asset pack with bodies
 // and motions (PLEAT_ASSET_DIR, by default ../shared/data beside the
 // repository), and a fresh temp folder.

@@ -18,10 +18,12 @@
 //                                                split also into seen / held-out garments; then
 //                                                one `summary:` line per model and split
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
-//                     [--repeats N] [--no-libtorch]
+//                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
 //                                                run time against error on one split: the runtime
 //                                                under each host setting, libtorch on the same
-//                                                weights and LBS; DIR/bench.md, bench.csv, bench.png
+//                                                weights and LBS (and Blender re-simulating the
+//                                                split's first sequence); DIR/bench.md, bench.csv,
+//                                                bench.png
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -34,6 +36,7 @@
 
 #include "ablation.h"
 #include "bench.h"
+#include "bench_blender.h"
 #include "core/error.h"
 #include "evaluation.h"
 #include "io/atomic_file.h"
@@ -51,7 +54,7 @@ const char* kUsage =
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
     "[--top-k K] [--splits train,validation,test] [-o report.md]\n"
     "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
-    "[--repeats N] [--no-libtorch]\n"
+    "[--repeats N] [--no-libtorch] [--against-blender datagen.json]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -286,7 +289,7 @@ int evaluate(int argc, char** argv) {
 int bench(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("bench needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
-  std::string model_path, output, split = "test";
+  std::string model_path, output, split = "test", datagen_config;
   pleat::training::BenchOptions options;
   const auto count = [&](int& i, const char* flag) {
     const int value = std::stoi(argv[++i]);
@@ -306,6 +309,8 @@ int bench(int argc, char** argv) {
       options.repeats = count(i, "--repeats");
     } else if (std::strcmp(argv[i], "--no-libtorch") == 0) {
       options.libtorch = false;
+    } else if (std::strcmp(argv[i], "--against-blender") == 0 && i + 1 < argc) {
+      datagen_config = argv[++i];
     } else {
       throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
     }
@@ -319,8 +324,18 @@ int bench(int argc, char** argv) {
   const pleat::training::Dataset data(dirs);
   const pleat::training::BenchReport report =
       pleat::training::run_bench(data, model, pleat::training::default_bench_settings(), options);
-  const std::string md = "# Run time against error: " + std::filesystem::path(model_path).stem().string() +
-                         ", " + split + " split\n\n" + pleat::training::bench_markdown(report);
+  std::string md = "# Run time against error: " + std::filesystem::path(model_path).stem().string() + ", " +
+                   split + " split\n\n" + pleat::training::bench_markdown(report);
+  if (!datagen_config.empty()) {
+    std::error_code error;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+    const std::string tool =
+        ((error ? std::filesystem::path(argv[0]) : self).parent_path() / "pleat-datagen").string();
+    md += pleat::training::blender_markdown(
+        pleat::training::time_blender(tool, datagen_config, data.sequences().front(), output + "/blender",
+                                      options.threads),
+        report);
+  }
   std::fputs(md.c_str(), stdout);
   std::filesystem::create_directories(output);
   for (const auto& [name, text] : {std::pair<std::string, std::string>{"bench.md", md},
