@@ -427,23 +427,31 @@ void Instance::State::blend_offsets() {
     offsets.row(mask.blend.vertices[static_cast<size_t>(i)]) = region_out.row(i);
 }
 
-// M̃ of frame t reads frames [t - window, t] (motion window and its root
-// velocities; skinning matrices of t), clamped at 0.
-bool Instance::State::same_inputs(const PoseSequence& poses, int64_t t) const {
+// M̃ of frame t reads frames [t - window, t] of the poses (motion window and
+// its root velocities; skinning matrices of t), clamped at 0: those
+// rotations and root positions, as two spans.
+struct PoseInputs {
+  const float* rotations;
+  size_t rotation_floats;
+  const float* roots;
+  size_t root_floats;
+};
+static PoseInputs pose_inputs(const PoseSequence& poses, int64_t t, int32_t window, int32_t joints) {
   const int64_t lo = std::max<int64_t>(0, t - window), frames = t - lo + 1;
-  const size_t rotations = static_cast<size_t>(frames * joints * 4), roots = static_cast<size_t>(frames * 3);
-  return std::memcmp(last_inputs.data(), poses.rotations + lo * joints * 4, rotations * sizeof(float)) == 0 &&
-         std::memcmp(last_inputs.data() + rotations, poses.root_positions + lo * 3, roots * sizeof(float)) ==
-             0;
+  return {poses.rotations + lo * joints * 4, static_cast<size_t>(frames * joints * 4),
+          poses.root_positions + lo * 3, static_cast<size_t>(frames * 3)};
+}
+
+bool Instance::State::same_inputs(const PoseSequence& poses, int64_t t) const {
+  const PoseInputs in = pose_inputs(poses, t, window, joints);
+  return std::memcmp(in.rotations, last_inputs.data(), in.rotation_floats * sizeof(float)) == 0 &&
+         std::memcmp(in.roots, last_inputs.data() + in.rotation_floats, in.root_floats * sizeof(float)) == 0;
 }
 
 void Instance::State::keep_inputs(const PoseSequence& poses, int64_t t) {
-  const int64_t lo = std::max<int64_t>(0, t - window), frames = t - lo + 1;
-  const size_t rotations = static_cast<size_t>(frames * joints * 4), roots = static_cast<size_t>(frames * 3);
-  std::copy(poses.rotations + lo * joints * 4, poses.rotations + lo * joints * 4 + rotations,
-            last_inputs.data());
-  std::copy(poses.root_positions + lo * 3, poses.root_positions + lo * 3 + roots,
-            last_inputs.data() + rotations);
+  const PoseInputs in = pose_inputs(poses, t, window, joints);
+  std::copy(in.rotations, in.rotations + in.rotation_floats, last_inputs.data());
+  std::copy(in.roots, in.roots + in.root_floats, last_inputs.data() + in.rotation_floats);
 }
 
 void Instance::State::set_vertex_mask(const uint8_t* flags) {
