@@ -430,17 +430,19 @@ void Instance::State::blend_offsets() {
 // M̃ of frame t reads frames [t - window, t] of the poses (motion window and
 // its root velocities; skinning matrices of t), clamped at 0: those
 // rotations and root positions, as two spans.
+namespace {
 struct PoseInputs {
   const float* rotations;
   size_t rotation_floats;
   const float* roots;
   size_t root_floats;
 };
-static PoseInputs pose_inputs(const PoseSequence& poses, int64_t t, int32_t window, int32_t joints) {
+PoseInputs pose_inputs(const PoseSequence& poses, int64_t t, int32_t window, int32_t joints) {
   const int64_t lo = std::max<int64_t>(0, t - window), frames = t - lo + 1;
   return {poses.rotations + lo * joints * 4, static_cast<size_t>(frames * joints * 4),
           poses.root_positions + lo * 3, static_cast<size_t>(frames * 3)};
 }
+}  // namespace
 
 bool Instance::State::same_inputs(const PoseSequence& poses, int64_t t) const {
   const PoseInputs in = pose_inputs(poses, t, window, joints);
