@@ -158,10 +158,12 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.source = resolve(assets, m.text("source", "", true));
     require_file(m, spec.source, "source");
     spec.speed = m.number("speed", 1.0, 0.25, 4.0);
-    // A time-warped clip is another clip: its default name says the rate.
+    spec.turn = m.number("turn", 0.0, -1440.0, 1440.0);
+    // A time-warped or turned clip is another clip: its default name says how.
     std::ostringstream stem;
     stem << fs::path(spec.source).stem().string();
     if (spec.speed != 1.0) stem << "x" << spec.speed;
+    if (spec.turn != 0.0) stem << "t" << spec.turn;
     spec.name = checked_name(m, "name", stem.str());
     if (m.has("map")) {
       spec.map = resolve(base, m.text("map"));

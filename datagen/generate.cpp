@@ -51,6 +51,7 @@ Json job_identity(const Config& c, const Job& job) {
       {"check", {c.check.max_distance, c.check.max_penetration, c.check.max_penetrating_fraction}}};
   // Only when set, so the sequences of data sets made before the option keep their hash.
   if (m.speed != 1.0) identity["speed"] = m.speed;
+  if (m.turn != 0.0) identity["turn"] = m.turn;
   return identity;
 }
 
@@ -100,7 +101,9 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   s["held_out_garment"] = job.held_out_garment;
   if (!job.twin_of.empty()) s["twin_of"] = job.twin_of;
   s["motion_map"] = c.motions[job.segment.motion].map;
-  if (c.motions[job.segment.motion].speed != 1.0) s["motion_speed"] = c.motions[job.segment.motion].speed;
+  const MotionSpec& motion = c.motions[job.segment.motion];
+  if (motion.speed != 1.0) s["motion_speed"] = motion.speed;
+  if (motion.turn != 0.0) s["motion_turn_degrees_per_second"] = motion.turn;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
   m.simulator_json = s.dump();

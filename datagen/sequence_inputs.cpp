@@ -153,6 +153,9 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
   // tear the cloth along. The network never sees absolute positions
   // (runtime/frame_features.h), and there is no floor to stand on.
   in.motion = with_lead_in(clip, config.rest_frames, config.blend_frames);
+  // The turn eases in with the blend, so the cloth is not jolted into a spin.
+  const double turn = config.motions[job.segment.motion].turn;
+  if (turn != 0.0) in.motion = turn_motion(in.motion, turn, config.rest_frames, config.blend_frames);
   in.root_offset = in.motion.root_translation.row(0) - body.skeleton.rest_translation.row(0);
   in.motion.root_translation.rowwise() -= in.root_offset.transpose();
   in.lead_in = config.rest_frames + config.blend_frames;

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <tuple>
 
 #include "blender_run.h"
 #include "body/makehuman.h"
@@ -116,24 +118,28 @@ TEST(DatagenConfig, ShippedPerAssetConfigCoversEveryClipOnce) {
   EXPECT_EQ(c.twins.split, "test");
 }
 
-// The extra training clips of the per-asset set: every training clip of
-// dress.json slowed and sped up, and no validation or test clip at any speed,
-// so the test clips stay unseen.
-TEST(DatagenConfig, ShippedSpeedConfigWarpsOnlyTheTrainingClips) {
+// The augmented dress sets (clips played at other speeds, clips turned)
+// change only the training clips of the main set, simulated as it is, so the
+// test clips stay unseen.
+TEST(DatagenConfig, ShippedAugmentedConfigsChangeOnlyTheTrainingClips) {
   const Config main = read_config(pleat_test::source_dir() + "/data/datagen/dress.json");
-  const Config speed = read_config(pleat_test::source_dir() + "/data/datagen/dress_speed.json");
-  std::set<std::pair<std::string, double>> expected, got;
-  for (const MotionSpec& m : main.motions)
-    if (m.split == "train")
-      for (double rate : {0.8, 1.3}) expected.insert({m.source, rate});
-  for (const MotionSpec& m : speed.motions) {
-    EXPECT_EQ(m.split, "train") << m.name;
-    got.insert({m.source, m.speed});
-  }
-  EXPECT_EQ(got, expected);
-  EXPECT_EQ(speed.validation + speed.test, 0);
-  EXPECT_EQ(speed.cloth.quality, main.cloth.quality) << "simulated as the main set is";
-  EXPECT_EQ(speed.collider, main.collider);
+  const auto check = [&](const std::string& file, const std::set<std::pair<double, double>>& variants) {
+    const Config augmented = read_config(pleat_test::source_dir() + "/data/datagen/" + file);
+    std::set<std::tuple<std::string, double, double>> expected, got;
+    for (const MotionSpec& m : main.motions)
+      if (m.split == "train")
+        for (const auto& [speed, turn] : variants) expected.insert({m.source, speed, turn});
+    for (const MotionSpec& m : augmented.motions) {
+      EXPECT_EQ(m.split, "train") << file << ": " << m.name;
+      got.insert({m.source, m.speed, m.turn});
+    }
+    EXPECT_EQ(got, expected) << file;
+    EXPECT_EQ(augmented.validation + augmented.test, 0) << file;
+    EXPECT_EQ(augmented.cloth.quality, main.cloth.quality) << file << " is simulated as the main set is";
+    EXPECT_EQ(augmented.collider, main.collider) << file;
+  };
+  check("dress_speed.json", {{0.8, 0.0}, {1.3, 0.0}});
+  check("dress_turn.json", {{1.0, 360.0}});
 }
 
 TEST(DatagenConfig, ErrorsNameTheField) {
@@ -335,6 +341,50 @@ TEST(DatagenInputs, SpeedTimeWarpsTheClip) {
   }
   text.replace(text.find("\"speed\": 2"), 10, "\"speed\": 0");
   expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[1].speed' must be in");
+}
+
+// A turned clip is another clip, named by its rate. Its sequence is the
+// plain one with the root turned about the vertical: not at all while the
+// body stands at rest, easing in over the blend, then at the full rate.
+TEST(DatagenInputs, TurnSpinsTheSequenceFromTheBlendOn) {
+  std::string text = config_text();
+  const std::string first = "/motions/cmu_mb/12_03.bvh\"}";
+  text.replace(text.find(first), first.size(), first.substr(0, first.size() - 1) + ", \"turn\": -180}");
+  Config c = parse_config(text, "/tmp/c.json");
+  ASSERT_EQ(c.motions[0].name, "12_03t-180");
+  EXPECT_DOUBLE_EQ(c.motions[0].turn, -180.0);
+  EXPECT_DOUBLE_EQ(c.motions[1].turn, 0.0);
+  c.segment_frames = 20;
+  const Assets assets = load_assets(c);
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  const std::vector<Job> jobs = plan_jobs(c, frames);
+  const auto job = std::find_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.segment.motion == 0; });
+  ASSERT_NE(job, jobs.end());
+  Config plain = c;
+  plain.motions[0].turn = 0;
+  const SequenceInputs turned = prepare_sequence(c, assets, *job),
+                       straight = prepare_sequence(plain, assets, *job);
+  ASSERT_EQ(turned.motion.frame_count, straight.motion.frame_count);
+  const int32_t n = turned.motion.skeleton.joint_count();
+  const Eigen::Quaterniond rest = turned.motion.skeleton.rest_rotation[0];
+  const double step = -M_PI / c.frame_rate;
+  double theta = 0;
+  for (int64_t f = 0; f < turned.motion.frame_count; ++f) {
+    const double u = std::clamp(double(f - c.rest_frames) / double(c.blend_frames), 0.0, 1.0);
+    theta += step * u * u * (3 - 2 * u);
+    const Eigen::Quaterniond yaw(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()));
+    EXPECT_LT((rest * turned.motion.frame(f)[0]).angularDistance(yaw * rest * straight.motion.frame(f)[0]),
+              1e-9)
+        << f;
+    for (int32_t j = 1; j < n; ++j)
+      ASSERT_EQ(turned.motion.frame(f)[j].coeffs(), straight.motion.frame(f)[j].coeffs());
+  }
+  // Smoothstep is symmetric, so the blend's B frames turn as far as B / 2 + 1 / 2 at the full rate.
+  EXPECT_NEAR(theta, step * (turned.motion.frame_count - 1 - c.rest_frames - c.blend_frames / 2.0 + 0.5),
+              1e-9);
+  text.replace(text.find("-180"), 4, "2000");
+  expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[0].turn' must be in");
 }
 
 TEST(DatagenInputs, LeadInStartsAtRestAndEasesIntoTheClip) {

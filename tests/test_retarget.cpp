@@ -1,5 +1,5 @@
 // Motion operations: resampling, retargeting (by names and mapping files),
-// mirroring, and their error cases.
+// mirroring, turning, and their error cases.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -399,4 +399,59 @@ TEST(Mirror, ReflectsASymmetricSkeleton) {
   for (size_t k = 0; k < m.rotations.size(); ++k)
     ASSERT_EQ(twice.rotations[k].coeffs(), m.rotations[k].coeffs());
   EXPECT_EQ(twice.root_translation, m.root_translation);
+}
+
+// A straight walk at 1 m/s turned at 90 deg/s walks a regular 120-gon
+// (steps of 1/30 m) and is back where it started after 4 s; the root's global
+// orientation turns with it, through a rest orientation that is not the
+// identity, and the other joints keep their rotations.
+TEST(Turn, AStraightWalkBecomesACircle) {
+  Motion walk;
+  walk.skeleton.names = {"root", "leg"};
+  walk.skeleton.parents = {-1, 0};
+  walk.skeleton.rest_translation = Points3d(2, 3);
+  walk.skeleton.rest_translation << 0, 1, 0, 0, -0.5, 0;
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 0, 1).normalized()));
+  walk.skeleton.rest_rotation = {tilt, Eigen::Quaterniond::Identity()};
+  walk.frame_rate = 30;
+  walk.frame_count = 121;
+  const Eigen::Quaterniond sway(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  walk.root_translation = Points3d(121, 3);
+  for (int64_t f = 0; f < 121; ++f) {
+    walk.rotations.push_back(Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * f, Eigen::Vector3d::UnitZ())));
+    walk.rotations.push_back(sway);
+    walk.root_translation.row(f) << 0.5, 1.0, f / 30.0;
+  }
+  const Motion turned = pleat::turn_motion(walk, 90.0, 0, 0);
+  const Eigen::RowVector3d start = walk.root_translation.row(0);
+  EXPECT_LT((turned.root_translation.row(120) - start).norm(), 1e-12);
+  // Half way (180 degrees) the walker is a diameter away: |sum of 60 unit
+  // steps at angles k pi / 60| = 1 / sin(pi / 120).
+  EXPECT_NEAR((turned.root_translation.row(60) - start).norm(), 1.0 / 30.0 / std::sin(M_PI / 120.0), 1e-12);
+  for (int64_t f : {int64_t{0}, int64_t{1}, int64_t{45}, int64_t{120}}) {
+    const Eigen::Quaterniond turn(Eigen::AngleAxisd(f * M_PI / 60.0, Eigen::Vector3d::UnitY()));
+    const Eigen::Quaterniond before = tilt * walk.frame(f)[0], after = tilt * turned.frame(f)[0];
+    EXPECT_LT(after.angularDistance(turn * before), 1e-12) << f;
+    EXPECT_EQ(turned.frame(f)[1].coeffs(), sway.coeffs()) << f;
+    EXPECT_DOUBLE_EQ(turned.root_translation(f, 1), 1.0) << f;
+  }
+}
+
+// The turn eases in: nothing before ease_from, then smoothstep of the rate.
+TEST(Turn, EasesInAndRefusesABadRate) {
+  Motion still = walk_fixture();
+  still = pleat::cut_motion(still, 0, 10);
+  const Motion turned = pleat::turn_motion(still, 120.0, 2, 4);
+  const double step = 120.0 * M_PI / 180.0 / still.frame_rate;
+  const double expected[] = {
+      0, 0, 0, step * 0.15625, step * (0.15625 + 0.5), step * (0.15625 + 0.5 + 0.84375), step * 2.5};
+  for (int64_t f = 0; f < 7; ++f) {
+    const Eigen::Quaterniond a = still.skeleton.rest_rotation[0] * still.frame(f)[0];
+    const Eigen::Quaterniond b = still.skeleton.rest_rotation[0] * turned.frame(f)[0];
+    const Eigen::Quaterniond turn(Eigen::AngleAxisd(expected[f], Eigen::Vector3d::UnitY()));
+    EXPECT_LT(b.angularDistance(turn * a), 1e-9) << f;
+  }
+  expect_error([&] { pleat::turn_motion(still, std::nan(""), 0, 0); }, PLEAT_ERROR_INVALID_ARGUMENT,
+               "turn_motion: rate");
+  expect_error([&] { pleat::turn_motion(still, 90, 0, -1); }, PLEAT_ERROR_INVALID_ARGUMENT, "over -1 frames");
 }

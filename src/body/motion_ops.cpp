@@ -440,4 +440,32 @@ Motion mirror_motion(const Motion& m) {
   return out;
 }
 
+Motion turn_motion(const Motion& m, double degrees_per_second, int64_t ease_from, int64_t ease_frames) {
+  if (!std::isfinite(degrees_per_second) || ease_from < 0 || ease_frames < 0)
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "turn_motion: rate " + std::to_string(degrees_per_second) +
+                                           " deg/s, easing from frame " + std::to_string(ease_from) +
+                                           " over " + std::to_string(ease_frames) + " frames");
+  validate_motion(m, "turn_motion");
+  const int32_t n = m.skeleton.joint_count();
+  const Eigen::Quaterniond rest = m.skeleton.rest_rotation[0];
+  const double step = degrees_per_second * M_PI / 180.0 / m.frame_rate;
+  Motion out = m;
+  double theta = 0.0;
+  for (int64_t f = 0; f < m.frame_count; ++f) {
+    if (f > ease_from) {
+      const double u = ease_frames == 0 ? 1.0 : std::min(1.0, double(f - ease_from) / double(ease_frames));
+      theta += step * u * u * (3.0 - 2.0 * u);
+    }
+    const Eigen::Quaterniond turn(Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()));
+    // Global root = rest * pose: turning it in the world is a change of pose
+    // seen through the rest orientation.
+    out.rotations[static_cast<size_t>(f * n)] = (rest.conjugate() * turn * rest * m.frame(f)[0]).normalized();
+    if (f > 0) {
+      const Eigen::Vector3d moved = (m.root_translation.row(f) - m.root_translation.row(f - 1)).transpose();
+      out.root_translation.row(f) = out.root_translation.row(f - 1) + (turn * moved).transpose();
+    }
+  }
+  return out;
+}
+
 }  // namespace pleat

@@ -106,4 +106,14 @@ std::string mirror_joint_name(const std::string& name);
 // millimetres to a few centimetres). Mirroring twice gives the motion back.
 Motion mirror_motion(const Motion& motion);
 
+// Adds a steady turn about the vertical (y) axis: at frame f the root's
+// global orientation and its horizontal step from frame f - 1 are rotated by
+// theta(f), which grows at `degrees_per_second`. The rate eases in
+// (smoothstep) over frames [ease_from, ease_from + ease_frames) and is 0
+// before them. A walk becomes a walk along a circle of radius v / rate, a
+// motion in place spins in place; joints below the root are unchanged.
+// Throws PLEAT_ERROR_INVALID_ARGUMENT for a rate that is not finite or
+// negative easing frames.
+Motion turn_motion(const Motion& motion, double degrees_per_second, int64_t ease_from, int64_t ease_frames);
+
 }  // namespace pleat
