@@ -232,6 +232,40 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   EXPECT_NE(refused.find("training config '" + root + "/config.json': no training sequence"),
             std::string::npos)
       << refused;
+
+  // --by-clip: a row per clip, named as datagen names it (stem, x<speed>),
+  // each scored on its own sequences: the walk's row repeats the walk's
+  // numbers above; the other clip has no twin, so no floor.
+  const std::string fast = pleat_test::write_skirt_walk(root + "/set", 0.03, "skirt_fast");
+  nlohmann::json meta;
+  std::ifstream(fast + "/meta.json") >> meta;
+  meta["motion"]["source"] = "/clips/75_02.bvh";
+  meta["simulator"]["motion_speed"] = 1.3;
+  std::ofstream(fast + "/meta.json") << meta.dump();
+  std::ofstream(root + "/set/splits.json") << R"({"train": [], "validation": [],
+      "test": ["skirt_walk", "skirt_fast"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
+  std::string clips;
+  ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root +
+                                        "/config.json --splits test --by-clip --model " + root +
+                                        "/run/model.pleat 2>&1",
+                                    &clips),
+            0)
+      << clips;
+  const std::string walk_model = model_row(staged).substr(std::string("| model | ").size());
+  char walk_row[160];
+  std::snprintf(walk_row, sizeof walk_row, "| 12_03_walk_121 | 1 | 31 | %.3f | %.3f | %.3f | %.2f |", lbs,
+                floor, std::stod(walk_model), std::stod(walk_model) / lbs);
+  EXPECT_NE(
+      clips.find("#### Test split by clip (E_verts cm)\n\n| clip | sequences | frames | LBS | noise floor | "
+                 "model | ratio |"),
+      std::string::npos)
+      << clips;
+  EXPECT_NE(clips.find(walk_row), std::string::npos) << walk_row << "\n" << clips;
+  const size_t other = clips.find("| 75_02x1.3 | 1 | 31 | ");
+  ASSERT_NE(other, std::string::npos) << clips;
+  const double other_lbs = std::stod(clips.substr(other + 22));
+  EXPECT_GT(other_lbs, lbs) << "its skirt is pushed further out";
+  EXPECT_NE(clips.find(" |  | ", other), std::string::npos) << "no twin, no floor: " << clips;
 }
 
 // `pleat bench`: every host setting on the test split with its run time and

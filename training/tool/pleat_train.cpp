@@ -10,12 +10,13 @@
 //   pleat-train baseline config.json [--splits ...] evaluate without a model: plain LBS (nearest
 //                                                body weights) and the noise floor on each split
 //   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
-//                     [--splits train,validation,test] [-o report.md]
+//                     [--splits train,validation,test] [--by-clip] [-o report.md]
 //                                                Table I on each split, side by side: LBS, the
 //                                                noise floor (where the data set has twins), and
 //                                                each model (run by the runtime, at its
 //                                                default_top_k or K joints per vertex); the test
-//                                                split also into seen / held-out garments; then
+//                                                split also into seen / held-out garments;
+//                                                --by-clip: E_verts per clip of each split; then
 //                                                one `summary:` line per model and split
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
 //                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
@@ -52,7 +53,7 @@ const char* kUsage =
     "       pleat-train ablation config.json\n"
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
-    "[--top-k K] [--splits train,validation,test] [-o report.md]\n"
+    "[--top-k K] [--splits train,validation,test] [--by-clip] [-o report.md]\n"
     "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
     "[--repeats N] [--no-libtorch] [--against-blender datagen.json]\n"
     "config.json: docs/training.md\n";
@@ -103,6 +104,25 @@ bool held_out_garment(const std::string& dir) {
   std::ifstream in(dir + "/meta.json");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   return j.is_object() && j.contains("simulator") && j["simulator"].value("held_out_garment", false);
+}
+
+// The clip a datagen sequence was simulated from, named as datagen names it
+// (the BVH's stem, then x<speed> and t<turn> when set); "other" when its
+// meta.json does not say (sequences imported from other simulators).
+std::string clip_name(const std::string& dir) {
+  std::ifstream in(dir + "/meta.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (!j.is_object() || !j.contains("motion") || !j["motion"].is_object() || !j["motion"].contains("source"))
+    return "other";
+  std::ostringstream name;
+  name << std::filesystem::path(j["motion"].value("source", "")).stem().string();
+  if (j.contains("simulator") && j["simulator"].is_object()) {
+    const nlohmann::json& s = j["simulator"];
+    if (s.contains("motion_speed")) name << "x" << s.value("motion_speed", 1.0);
+    if (s.contains("motion_turn_degrees_per_second"))
+      name << "t" << s.value("motion_turn_degrees_per_second", 0.0);
+  }
+  return name.str();
 }
 
 // A model's row label: its file name without extension, or "folder/name" when
@@ -172,18 +192,71 @@ std::string preview(const pleat::training::TrainerConfig& c, const std::string& 
          " and " + std::to_string(last) + "](" + png.filename().string() + ")\n";
 }
 
+// E_verts per clip of a split, in the order the clips first appear: LBS, the
+// noise floor where every sequence of the clip has a twin, and each model
+// with its ratio to LBS. Shows which motions a model fails on.
+std::string clip_table(
+    const pleat::training::TrainerConfig& c, const std::string& title, const std::vector<std::string>& dirs,
+    const std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>>& models,
+    const pleat::runtime::InstanceOptions& options) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> clips;
+  for (const std::string& d : dirs) {
+    const std::string clip = clip_name(d);
+    auto it = std::find_if(clips.begin(), clips.end(), [&](const auto& e) { return e.first == clip; });
+    if (it == clips.end()) it = clips.insert(clips.end(), {clip, {}});
+    it->second.push_back(d);
+  }
+  std::string table =
+      "\n#### " + title + " by clip (E_verts cm)\n\n| clip | sequences | frames | LBS | noise floor |";
+  std::string rule = "\n|---|---|---|---|---|";
+  for (const auto& model : models) {
+    table += " " + model.first + " | ratio |";
+    rule += "---|---|";
+  }
+  table += rule + "\n";
+  for (const auto& [clip, clip_dirs] : clips) {
+    const pleat::training::Dataset data(clip_dirs);
+    const pleat::MetricsResult lbs = pleat::training::lbs_baseline(data);
+    std::vector<std::string> twins;
+    for (const std::string& d : clip_dirs)
+      if (const auto t = c.twins.find(d); t != c.twins.end()) twins.push_back(t->second);
+    char cells[160];
+    std::snprintf(cells, sizeof cells, "| %s | %zu | %lld | %.3f | ", clip.c_str(), clip_dirs.size(),
+                  static_cast<long long>(lbs.frame_count), lbs.e_verts_cm);
+    table += cells;
+    if (twins.size() == clip_dirs.size()) {
+      std::snprintf(cells, sizeof cells, "%.3f |",
+                    pleat::training::twin_difference(data, pleat::training::Dataset(twins)).e_verts_cm);
+      table += cells;
+    } else {
+      table += " |";
+    }
+    for (const auto& model : models) {
+      const double e =
+          pleat::training::model_metrics(data, model.second, pleat::runtime::Stage::refinement, options)
+              .e_verts_cm;
+      std::snprintf(cells, sizeof cells, " %.3f | %.2f |", e, e / lbs.e_verts_cm);
+      table += cells;
+    }
+    table += "\n";
+  }
+  return table;
+}
+
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
   std::vector<std::string> models, splits;
   std::string output;
-  bool stages = false;
+  bool stages = false, by_clip = false;
   pleat::runtime::InstanceOptions options;
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
       models.push_back(argv[++i]);
     } else if (std::strcmp(argv[i], "--stages") == 0) {
       stages = true;
+    } else if (std::strcmp(argv[i], "--by-clip") == 0) {
+      by_clip = true;
     } else if (std::strcmp(argv[i], "--top-k") == 0 && i + 1 < argc) {
       options.top_k = std::stoi(argv[++i]);
       if (options.top_k < 1) throw std::invalid_argument("--top-k needs a count of at least 1");
@@ -254,6 +327,7 @@ int evaluate(int argc, char** argv) {
                               : split == "validation" ? "Validation split"
                                                       : "Test split";
     summary.push_back(section(title, split, dirs));
+    if (by_clip) report += clip_table(c, title, dirs, loaded, options);
     if (split != "test") continue;
     std::vector<std::string> seen, held_out;
     for (const std::string& d : dirs) (held_out_garment(d) ? held_out : seen).push_back(d);
