@@ -160,11 +160,7 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.speed = m.number("speed", 1.0, 0.25, 4.0);
     spec.turn = m.number("turn", 0.0, -1440.0, 1440.0);
     // A time-warped or turned clip is another clip: its default name says how.
-    std::ostringstream stem;
-    stem << fs::path(spec.source).stem().string();
-    if (spec.speed != 1.0) stem << "x" << spec.speed;
-    if (spec.turn != 0.0) stem << "t" << spec.turn;
-    spec.name = checked_name(m, "name", stem.str());
+    spec.name = checked_name(m, "name", clip_name(spec.source, spec.speed, spec.turn));
     if (m.has("map")) {
       spec.map = resolve(base, m.text("map"));
       require_file(m, spec.map, "map");

@@ -170,6 +170,14 @@ std::string default_dataset_dir(const std::string& name) {
   return (fs::path(home && *home ? home : ".") / ".cache" / "pleat" / "datasets" / name).string();
 }
 
+std::string clip_name(const std::string& motion_source, double speed, double turn) {
+  std::ostringstream name;
+  name << std::filesystem::path(motion_source).stem().string();
+  if (speed != 1.0) name << "x" << speed;
+  if (turn != 0.0) name << "t" << turn;
+  return name.str();
+}
+
 bool sequence_complete(const std::string& dir) {
   return std::filesystem::is_regular_file(dir + "/meta.json");
 }

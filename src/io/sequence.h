@@ -59,6 +59,11 @@ void write_sequence(const std::string& dir, const SequenceData& data);
 // ~/.cache/pleat/datasets/<name>.
 std::string default_dataset_dir(const std::string& name);
 
+// The name datagen gives a clip, and `pleat-train evaluate --by-clip` groups
+// sequences by: the motion file's stem, then x<speed> unless it is 1 and
+// t<turn> (deg/s) unless it is 0 ("01_01", "01_01x1.3", "01_01t360").
+std::string clip_name(const std::string& motion_source, double speed, double turn);
+
 // True if `dir` holds a complete sequence (its meta.json exists).
 bool sequence_complete(const std::string& dir);
 

@@ -42,6 +42,7 @@
 #include "evaluation.h"
 #include "io/atomic_file.h"
 #include "io/contact_sheet.h"
+#include "io/sequence.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
 
@@ -107,22 +108,16 @@ bool held_out_garment(const std::string& dir) {
 }
 
 // The clip a datagen sequence was simulated from, named as datagen names it
-// (the BVH's stem, then x<speed> and t<turn> when set); "other" when its
-// meta.json does not say (sequences imported from other simulators).
-std::string clip_name(const std::string& dir) {
+// (pleat::clip_name); "other" when its meta.json does not say.
+std::string sequence_clip(const std::string& dir) {
   std::ifstream in(dir + "/meta.json");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   if (!j.is_object() || !j.contains("motion") || !j["motion"].is_object() || !j["motion"].contains("source"))
     return "other";
-  std::ostringstream name;
-  name << std::filesystem::path(j["motion"].value("source", "")).stem().string();
-  if (j.contains("simulator") && j["simulator"].is_object()) {
-    const nlohmann::json& s = j["simulator"];
-    if (s.contains("motion_speed")) name << "x" << s.value("motion_speed", 1.0);
-    if (s.contains("motion_turn_degrees_per_second"))
-      name << "t" << s.value("motion_turn_degrees_per_second", 0.0);
-  }
-  return name.str();
+  const nlohmann::json simulator =
+      j.contains("simulator") && j["simulator"].is_object() ? j["simulator"] : nlohmann::json::object();
+  return pleat::clip_name(j["motion"].value("source", ""), simulator.value("motion_speed", 1.0),
+                          simulator.value("motion_turn_degrees_per_second", 0.0));
 }
 
 // A model's row label: its file name without extension, or "folder/name" when
@@ -201,7 +196,7 @@ std::string clip_table(
     const pleat::runtime::InstanceOptions& options) {
   std::vector<std::pair<std::string, std::vector<std::string>>> clips;
   for (const std::string& d : dirs) {
-    const std::string clip = clip_name(d);
+    const std::string clip = sequence_clip(d);
     auto it = std::find_if(clips.begin(), clips.end(), [&](const auto& e) { return e.first == clip; });
     if (it == clips.end()) it = clips.insert(clips.end(), {clip, {}});
     it->second.push_back(d);
