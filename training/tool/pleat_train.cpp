@@ -215,10 +215,10 @@ std::string clip_table(
     std::vector<std::string> twins;
     for (const std::string& d : clip_dirs)
       if (const auto t = c.twins.find(d); t != c.twins.end()) twins.push_back(t->second);
-    char cells[160];
-    std::snprintf(cells, sizeof cells, "| %s | %zu | %lld | %.3f | ", clip.c_str(), clip_dirs.size(),
+    char cells[96];
+    std::snprintf(cells, sizeof cells, " | %zu | %lld | %.3f | ", clip_dirs.size(),
                   static_cast<long long>(lbs.frame_count), lbs.e_verts_cm);
-    table += cells;
+    table += "| " + clip + cells;
     if (twins.size() == clip_dirs.size()) {
       std::snprintf(cells, sizeof cells, "%.3f |",
                     pleat::training::twin_difference(data, pleat::training::Dataset(twins)).e_verts_cm);
