@@ -479,6 +479,37 @@ TEST(ModelFuzz, SoftSkinningPriorIsWrittenAsFormatVersionFour) {
   }
 }
 
+// A reader of version 4 or older would not know the feature.
+TEST(ModelFuzz, FusedCodeRefinementIsWrittenAsFormatVersionFive) {
+  const std::vector<uint8_t> plain = small_model_bytes();
+  std::shared_ptr<Model> m = deserialize_model(plain.data(), plain.size(), "small");
+  GraphStack& r = m->refinement;
+  const Index code = m->code_width(), in = r.in_width();
+  r.features.push_back(Feature::fused_code);
+  nn::GraphAttentionLayer& first = r.layers.front();
+  first.weight.conservativeResize(in + code, Eigen::NoChange);
+  first.weight.bottomRows(code).setConstant(0.01f);
+  ASSERT_FALSE(r.normalization.empty());
+  r.normalization.shift.conservativeResize(in + code);
+  r.normalization.scale.conservativeResize(in + code);
+  r.normalization.shift.tail(code).setZero();
+  r.normalization.scale.tail(code).setOnes();
+  validate_model(*m);
+  const std::vector<uint8_t> fused = serialize_model(*m);
+  EXPECT_EQ(fb::GetModel(fused.data())->format_version(), 5u);
+  EXPECT_EQ(deserialize_model(fused.data(), fused.size(), "fused")->refinement.features, r.features);
+  expect_refused(with_format_version(fused, 4), PLEAT_ERROR_FORMAT,
+                 "refinement feature 'fused_code' needs format_version 5 (the file says 4)");
+  // The code is the refinement's input alone, and its width is the code's.
+  std::shared_ptr<Model> narrow = std::make_shared<Model>(*m);
+  narrow->refinement.layers.front().weight.conservativeResize(in + code - 1, Eigen::NoChange);
+  expect_refused(serialize_model(*narrow), PLEAT_ERROR_FORMAT, "refinement");
+  std::shared_ptr<Model> elsewhere = std::make_shared<Model>(*m);
+  elsewhere->motion_features.push_back(Feature::fused_code);
+  expect_refused(serialize_model(*elsewhere), PLEAT_ERROR_FORMAT,
+                 "motion_features entry 2 'fused_code' is not an input of this stack");
+}
+
 TEST(ModelFuzz, EveryTruncationIsRefused) {
   const std::vector<uint8_t> good = small_model_bytes();
   size_t padding = 0;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -71,13 +72,16 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   std::ofstream(root + "/config.json") << R"({"train": ["skirt_walk"], "validation": ["skirt_walk"],
       "schedule": "schedule.json", "output": "run", "epochs": 3, "batch_frames": 8, "progress": false,
       "model": {"code_width": 16, "body_widths": [16], "garment_widths": [16, 16], "gru_layers": 1,
-                "blend_widths": [16, 3], "refinement_widths": [16, 3], "default_top_k": 6}})";
+                "blend_widths": [16, 3], "refinement_widths": [16, 3], "default_top_k": 6,
+                "refinement_features": ["velocity", "normal", "posed_joint_distances", "fused_code"]}})";
   std::string text;
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   EXPECT_NE(text.find("trained 3 epochs"), std::string::npos) << text;
   EXPECT_EQ(lines(root + "/run/log.csv"), 4) << "a header and one row per epoch";
-  EXPECT_EQ(pleat::runtime::load_model_file(root + "/run/model.pleat")->code_width(), 16);
-  EXPECT_EQ(pleat::runtime::load_model_file(root + "/run/model.pleat")->default_top_k, 6);
+  const auto trained = pleat::runtime::load_model_file(root + "/run/model.pleat");
+  EXPECT_EQ(trained->code_width(), 16);
+  EXPECT_EQ(trained->default_top_k, 6);
+  EXPECT_TRUE(pleat::runtime::refinement_reads_code(*trained));
   expect_kept_epoch(root + "/run", root + "/run/model.pleat", 3);
 
   // Two more epochs resume the run; export writes the kept epoch of all five.
@@ -97,6 +101,19 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   EXPECT_EQ(pleat_test::run_command(cli() + " train " + root + "/bad.json 2>&1", &text), 1);
   EXPECT_NE(text.find("bad.json"), std::string::npos) << text;
   EXPECT_NE(text.find("model.variant"), std::string::npos) << text;
+  std::ofstream(root + "/bad.json")
+      << R"({"train": ["skirt_walk"], "schedule": "schedule.json", "output": "x",
+      "model": {"refinement_features": ["velocity", "swing"]}})";
+  EXPECT_EQ(pleat_test::run_command(cli() + " train " + root + "/bad.json 2>&1", &text), 1);
+  EXPECT_NE(text.find("model.refinement_features has unknown feature 'swing'"), std::string::npos) << text;
+
+  // The run's checkpoint has the code's columns: a config without them cannot resume it.
+  std::ifstream in(root + "/config.json");
+  std::string config((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  config.replace(config.find(", \"fused_code\""), 14, "");
+  std::ofstream(root + "/blind.json") << config;
+  EXPECT_NE(pleat_test::run_command(cli() + " train " + root + "/blind.json --epochs 6 2>&1", &text), 0);
+  EXPECT_NE(text.find("was made for another architecture (tensor"), std::string::npos) << text;
 }
 
 TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {

@@ -136,6 +136,60 @@ TEST(TrainingNetwork, FreshModelMatchesTheRuntime) {
   }
 }
 
+// The refinement reading F^t (Feature::fused_code): the trainer and the
+// runtime agree, the file keeps the feature (format version 5), and the
+// runtime reads each frame's own motion code whatever the split into calls:
+// in a batch (row b), for a frame before the call (an interval's held frame,
+// the spare row).
+TEST(TrainingNetwork, RefinementReadingTheFusedCodeMatchesTheRuntime) {
+  const Body body = pleat_test::chain_body();
+  const auto garment = grid_garment(8);
+  ModelInitOptions o = small_options();
+  o.refinement_features = {Feature::velocity, Feature::fused_code, Feature::posed_joint_distances};
+  const auto model = initialize_model({body.skeleton.names, body.skeleton.parents}, {}, o);
+  EXPECT_EQ(model->refinement.in_width(), 3 + o.code_width + model->joint_count());
+  const std::string path = pleat_test::temp_dir("training_network") + "/fused_code.pleat";
+  save_model(*model, path);
+  const std::shared_ptr<const Model> loaded = load_model_file(path);
+  EXPECT_EQ(model_format_version(*loaded), 5u);
+  EXPECT_EQ(loaded->refinement.features, o.refinement_features);
+  training::Network network(*loaded);
+  const Clip clip = turning_clip(9);
+  EXPECT_LT(parity(loaded, network, garment, body, clip, {0, 3, 8}), 1e-4);
+
+  // The same model without the code's columns differs: the runtime reads them.
+  std::shared_ptr<Model> blind = std::make_shared<Model>(*loaded);
+  blind->refinement.layers.front().weight.middleRows(3, o.code_width).setZero();
+  validate_model(*blind);
+
+  const PoseSequence poses = clip.poses(9);
+  const int n = garment->rest.vertex_count();
+  const auto evaluate = [&](const std::shared_ptr<const Model>& m, int64_t first, int64_t count,
+                            int32_t interval, int32_t max_batch) {
+    InstanceOptions options;
+    options.max_batch = max_batch;
+    Instance instance(m, garment, body, options);
+    std::vector<float> out(size_t(count) * n * 3);
+    EvaluateOutputs outputs;
+    outputs.positions = {out.data(), size_t(n) * 3};
+    EvaluateDetail detail;
+    detail.interval = interval;
+    instance.evaluate(poses, first, count, Stage::refinement, outputs, detail);
+    return out;
+  };
+  const std::vector<float> whole = evaluate(loaded, 0, 9, 1, 4);
+  EXPECT_NE(evaluate(blind, 0, 9, 1, 4), whole);
+  std::vector<float> one_by_one;
+  for (int64_t t = 0; t < 9; ++t) {
+    const std::vector<float> frame = evaluate(loaded, t, 1, 1, 1);
+    one_by_one.insert(one_by_one.end(), frame.begin(), frame.end());
+  }
+  EXPECT_EQ(one_by_one, whole);
+  const std::vector<float> held = evaluate(loaded, 0, 9, 3, 4);
+  const std::vector<float> from_inside = evaluate(loaded, 4, 5, 3, 4);
+  EXPECT_EQ(from_inside, std::vector<float>(held.begin() + 4 * n * 3, held.end()));
+}
+
 // With an offset filter (h = 0.1 m against 8.6 cm edges): training runs
 // through its backward, and the file keeps h.
 TEST(TrainingNetwork, TrainedAndExportedModelMatchesTheRuntime) {

@@ -206,6 +206,8 @@ NetworkOutput NetworkImpl::forward(const BoundGarment& bound, const runtime::Pos
           torch::bmm((current - previous) * static_cast<float>(spec_.frame_rate) * mask, heading));
     } else if (f == runtime::Feature::normal) {
       columns.push_back(torch::bmm(vertex_normals(current, bound.triangles), heading));
+    } else if (f == runtime::Feature::fused_code) {
+      columns.push_back(fused.narrow(0, 0, b));
     } else {  // posed_joint_distances
       columns.push_back((current.unsqueeze(2) - in.joints.narrow(0, 0, b).unsqueeze(1)).norm(2, -1));
     }

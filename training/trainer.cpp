@@ -365,6 +365,10 @@ bool Trainer::load_checkpoint() {
   std::vector<torch::Tensor> parameters = network_->parameters();
   if (meta.at("parameters").get<size_t>() != parameters.size() || tensors.size() < parameters.size())
     fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was made for another architecture");
+  for (size_t i = 0; i < parameters.size(); ++i)
+    if (!tensors[i].sizes().equals(parameters[i].sizes()))
+      fail(PLEAT_ERROR_FORMAT, "checkpoint '" + base + "' was made for another architecture (tensor " +
+                                   std::to_string(i) + " has another shape)");
   // Same tensors, another network: the parameter count cannot tell.
   const auto same_setting = [&](const char* key, double trained, double asked) {
     if (trained == asked) return;

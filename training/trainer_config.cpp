@@ -33,6 +33,21 @@ nn::AttentionVariant variant_named(const std::string& name, const std::string& p
   bad_config(path, "model.variant must be flexigat, gat or lgat, got '" + name + "'");
 }
 
+std::vector<runtime::Feature> refinement_features_named(const std::vector<std::string>& names,
+                                                        const std::string& path) {
+  std::vector<runtime::Feature> out;
+  for (const std::string& name : names) {
+    bool known = false;
+    for (int32_t f = 0; f <= static_cast<int32_t>(runtime::Feature::fused_code) && !known; ++f)
+      if (name == runtime::feature_name(static_cast<runtime::Feature>(f))) {
+        out.push_back(static_cast<runtime::Feature>(f));
+        known = true;
+      }
+    if (!known) bad_config(path, "model.refinement_features has unknown feature '" + name + "'");
+  }
+  return out;
+}
+
 }  // namespace
 
 TrainerConfig read_trainer_config(const std::string& path) {
@@ -119,6 +134,9 @@ TrainerConfig read_trainer_config(const std::string& path) {
       c.model.garment_widths = m.value("garment_widths", c.model.garment_widths);
       c.model.blend_widths = m.value("blend_widths", c.model.blend_widths);
       c.model.refinement_widths = m.value("refinement_widths", c.model.refinement_widths);
+      if (m.contains("refinement_features"))
+        c.model.refinement_features =
+            refinement_features_named(m["refinement_features"].get<std::vector<std::string>>(), path);
       c.model.offset_filter_length = m.value("offset_filter_length", c.model.offset_filter_length);
       c.model.skinning_prior_radius = m.value("skinning_prior_radius", c.model.skinning_prior_radius);
       c.model.skinning_prior_floor = m.value("skinning_prior_floor", c.model.skinning_prior_floor);

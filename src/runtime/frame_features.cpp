@@ -51,7 +51,7 @@ void FrameFeatures::rest_garment(const Garment& garment, const Points3d& rest_jo
           for (int32_t j = 0; j < joints; ++j)
             out(v, col + j) = static_cast<float>((x - rest_joints.row(j)).norm());
       }
-      col += feature_width(f, joints, 0);
+      col += feature_width(f, joints, 0, 0);
     }
   }
 }
@@ -105,13 +105,16 @@ void FrameFeatures::skinning_matrices(const PoseSequence& poses, int64_t t, Quat
 void FrameFeatures::refinement_row(const std::vector<Feature>& features, const Eigen::Matrix3f& heading,
                                    const Eigen::Vector3f& velocity, const Eigen::Vector3f& normal,
                                    const Eigen::Vector3f& position, const nn::MatrixRM& joint_positions,
-                                   float* out) const {
+                                   const FusedCode& code, float* out) const {
   Index col = 0;
   for (Feature f : features) {
     if (f == Feature::velocity || f == Feature::normal) {
       const Eigen::Vector3f local = heading.transpose() * (f == Feature::velocity ? velocity : normal);
       for (int k = 0; k < 3; ++k) out[col + k] = local[k];
       col += 3;
+    } else if (f == Feature::fused_code) {
+      for (Index c = 0; c < code.width; ++c) out[col + c] = code.garment_body[c] * code.motion[c];
+      col += code.width;
     } else {  // posed_joint_distances
       for (Index j = 0; j < joint_positions.rows(); ++j)
         out[col + j] = (joint_positions.row(j).transpose() - position).norm();

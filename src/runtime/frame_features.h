@@ -53,11 +53,21 @@ class FrameFeatures {
                          const Transforms& rest_global, SkinMatrices& matrices, nn::MatrixRM& skin,
                          nn::MatrixRM& joint_positions) const;
 
+  // The vertex's row of F^t as its two factors: (G ⊙ b) of the vertex and
+  // q^t of the frame, `width` floats each (unread without fused_code).
+  struct FusedCode {
+    const float* garment_body = nullptr;
+    const float* motion = nullptr;
+    Index width = 0;
+  };
+
   // One vertex's refinement input in `features` order: velocity and normal
-  // in H_t (heading passed as H_t), posed_joint_distances from `position`.
+  // in H_t (heading passed as H_t), posed_joint_distances from `position`,
+  // fused_code = (G ⊙ b) ⊙ q^t.
   void refinement_row(const std::vector<Feature>& features, const Eigen::Matrix3f& heading,
                       const Eigen::Vector3f& velocity, const Eigen::Vector3f& normal,
-                      const Eigen::Vector3f& position, const nn::MatrixRM& joint_positions, float* out) const;
+                      const Eigen::Vector3f& position, const nn::MatrixRM& joint_positions,
+                      const FusedCode& code, float* out) const;
 
  private:
   Eigen::Quaterniond rotation(const PoseSequence& poses, int64_t f, int32_t body_joint) const;

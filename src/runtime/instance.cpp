@@ -166,7 +166,7 @@ struct Instance::State {
   void skin_frame(const PoseSequence& poses, int64_t t, Stage stage, int slot, float* weights_out,
                   int32_t* joints_out, int32_t code_row);
   void refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
-                      const float* band_attenuation);
+                      int32_t code_row, const float* band_attenuation);
   void add_refinement(const PoseSequence& poses, int64_t t, int slot, float* out) const;
   void write_batch(int64_t first_in_call, int64_t begin, int64_t count, const EvaluateOutputs& outputs);
   void set_vertex_mask(const uint8_t* flags);
@@ -349,10 +349,11 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
 }
 
 // Δ^t into `refined` (heading frame, offset filter applied, bands
-// attenuated unless band_attenuation is null) from skinned[slot] and the
-// previous frame's M̃ (null: the clip's first frame, velocity 0).
+// attenuated unless band_attenuation is null) from skinned[slot], the
+// previous frame's M̃ (null: the clip's first frame, velocity 0) and frame
+// t's motion code in motion_codes.row(code_row).
 void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const MatrixRM* previous, int slot,
-                                     const float* band_attenuation) {
+                                     int32_t code_row, const float* band_attenuation) {
   const Model& m = *model;
   const MatrixRM& current = skinned[slot];
   vertex_normals(current.data(), n, garment->rest.triangles, normals.data());
@@ -367,8 +368,9 @@ void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const
       const int32_t v = masked ? region.vertices[static_cast<size_t>(i)] : i;
       Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
       if (previous != nullptr) velocity = (current.row(v) - previous->row(v)).transpose() * fps;
+      const FrameFeatures::FusedCode fused{fused_static.row(v).data(), motion_codes.row(code_row).data(), code};
       features.refinement_row(m.refinement.features, heading, velocity, normals.row(v).transpose(),
-                              current.row(v).transpose(), joint_positions, refinement_in.row(i).data());
+                              current.row(v).transpose(), joint_positions, fused, refinement_in.row(i).data());
     }
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });
@@ -594,7 +596,8 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       s.skin_frame(poses, first_refined - 1, stage, 1, s.chosen_weight.data(), s.chosen_joint.data(),
                    s.max_batch);
     s.skin_frame(poses, first_refined, stage, 0, s.chosen_weight.data(), s.chosen_joint.data(), s.max_batch);
-    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0, attenuation);
+    s.refine_offsets(poses, first_refined, first_refined > 0 ? &s.skinned[1] : nullptr, 0, s.max_batch,
+                     attenuation);
     if (first_refined == first - 1) previous_slot = 0;  // already the frame before
   }
   // The frame before the call's first one: its M̃ is needed for velocities
@@ -630,7 +633,8 @@ void Instance::evaluate(const PoseSequence& poses, int64_t first, int64_t count,
       float* staged = s.staged.row(b).data();
       if (refine) {
         if (t % interval == 0)
-          s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot, attenuation);
+          s.refine_offsets(poses, t, t > 0 ? &s.skinned[previous_slot] : nullptr, slot,
+                           static_cast<int32_t>(b), attenuation);
         s.add_refinement(poses, t, slot, staged);
       } else {
         std::copy(s.skinned[slot].data(), s.skinned[slot].data() + frame_floats, staged);

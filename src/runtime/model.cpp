@@ -1,8 +1,10 @@
 #include "runtime/model.h"
 
+#include <algorithm>
+
 namespace pleat::runtime {
 
-int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count) {
+int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count, int32_t code_width) {
   switch (feature) {
     case Feature::shape: return shape_count;
     case Feature::rest_joint_distances:
@@ -13,6 +15,7 @@ int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count)
     case Feature::root_velocity:
     case Feature::velocity:
     case Feature::normal: return 3;
+    case Feature::fused_code: return code_width;
   }
   return -1;
 }
@@ -28,8 +31,14 @@ const char* feature_name(Feature feature) {
     case Feature::velocity: return "velocity";
     case Feature::normal: return "normal";
     case Feature::posed_joint_distances: return "posed_joint_distances";
+    case Feature::fused_code: return "fused_code";
   }
   return "unknown";
+}
+
+bool refinement_reads_code(const Model& model) {
+  const std::vector<Feature>& f = model.refinement.features;
+  return std::find(f.begin(), f.end(), Feature::fused_code) != f.end();
 }
 
 int64_t parameter_count(const Model& model) {

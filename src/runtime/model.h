@@ -30,7 +30,7 @@ using nn::Index;
 
 // Per-vertex / per-frame input features. Each stack's input is the
 // concatenation of its feature list, in order (widths in parentheses;
-// S = joint count, |β| = shape count).
+// S = joint count, |β| = shape count, C = code width).
 enum class Feature : int32_t {
   shape = 0,                  // body encoder: β in the model's shape order (|β|)
   rest_joint_distances = 1,   // body / garment encoder: distances to the rest joints J(β) (S)
@@ -41,8 +41,11 @@ enum class Feature : int32_t {
   velocity = 6,               // refinement: (M̃^t − M̃^{t−1}) · frame rate in frame t's frame (3)
   normal = 7,                 // refinement: vertex normal of M̃^t (3)
   posed_joint_distances = 8,  // refinement: distances to the joints of frame t (S)
+  // refinement: the vertex's row of F^t = G ⊙ b ⊙ q^t (C), the only way the
+  // refinement sees the motion history and the body.
+  fused_code = 9,
 };
-int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count);
+int32_t feature_width(Feature feature, int32_t joint_count, int32_t shape_count, int32_t code_width);
 const char* feature_name(Feature feature);
 
 // How the motion encoder sees time. Only `window` is implemented: every frame
@@ -160,6 +163,9 @@ struct Model {
   int32_t shape_count() const { return static_cast<int32_t>(shape.size()); }
   Index code_width() const { return body_pool.out_width(); }
 };
+
+// Whether the refinement's inputs include Feature::fused_code.
+bool refinement_reads_code(const Model& model);
 
 // Number of learned scalars (every weight, bias, attention vector, P, Q).
 int64_t parameter_count(const Model& model);

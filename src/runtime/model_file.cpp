@@ -12,7 +12,7 @@ namespace pleat::runtime {
 namespace fb = pleat::schema;
 
 // The file stores the runtime enums by number: pin them together.
-static_assert(static_cast<int>(fb::Feature::MAX) == static_cast<int>(Feature::posed_joint_distances));
+static_assert(static_cast<int>(fb::Feature::MAX) == static_cast<int>(Feature::fused_code));
 static_assert(static_cast<int>(fb::Feature::joint_rotations_6d) ==
               static_cast<int>(Feature::joint_rotations_6d));
 static_assert(static_cast<int>(fb::ActivationKind::MAX) == static_cast<int>(nn::ActivationKind::elu));
@@ -193,6 +193,7 @@ std::vector<uint8_t> serialize_model(const Model& m) {
 }
 
 uint32_t model_format_version(const Model& model) {
+  if (refinement_reads_code(model)) return 5;
   if (model.skinning_prior_radius > 0.0f || model.skinning_prior_floor != kDefaultSkinningPriorFloor)
     return 4;
   if (model.offset_filter_length > 0.0f) return 3;

@@ -20,7 +20,9 @@ namespace pleat::runtime {
 //   1: the first format.
 //   2: body_vertex_stride > 1.
 //   3: offset_filter_length > 0.
-constexpr uint32_t kModelFormatVersion = 4;
+//   4: skinning_prior_radius > 0 or a skinning_prior_floor of its own.
+//   5: the refinement reads the fused code (Feature::fused_code).
+constexpr uint32_t kModelFormatVersion = 5;
 uint32_t model_format_version(const Model& model);
 
 // Caps checked before anything is allocated from a file's counts.

@@ -306,6 +306,9 @@ std::shared_ptr<Model> deserialize_model(const uint8_t* data, size_t size, const
     r.bad("skinning_prior_radius " + std::to_string(m->skinning_prior_radius) + " and skinning_prior_floor " +
           std::to_string(m->skinning_prior_floor) + " need format_version 4 (the file says " +
           std::to_string(root.format_version()) + ")");
+  if (refinement_reads_code(*m) && root.format_version() < 5)
+    r.bad("refinement feature 'fused_code' needs format_version 5 (the file says " +
+          std::to_string(root.format_version()) + ")");
   read_metadata(r, root, m.get());
   validate_model(*m);
   return m;

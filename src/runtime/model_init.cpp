@@ -133,9 +133,10 @@ GraphStack graph_stack(Random& rng, const std::string& name, const std::vector<F
 }
 
 nn::Index input_width(const std::vector<Feature>& features, const ModelSkeleton& s,
-                      const std::vector<ShapeEntry>& shape) {
+                      const std::vector<ShapeEntry>& shape, int32_t code_width) {
   nn::Index w = 0;
-  for (Feature f : features) w += feature_width(f, s.joint_count(), static_cast<int32_t>(shape.size()));
+  for (Feature f : features)
+    w += feature_width(f, s.joint_count(), static_cast<int32_t>(shape.size()), code_width);
   return w;
 }
 
@@ -187,7 +188,7 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   m->body_encoder.name = "body_encoder";
   m->body_encoder.hidden_activation = nn::Activation::tanh();
   m->body_encoder.output_activation = nn::Activation::tanh();
-  nn::Index in = input_width(m->body_features, skeleton, shape);
+  nn::Index in = input_width(m->body_features, skeleton, shape, o.code_width);
   for (size_t i = 0; i < o.body_widths.size(); ++i) {
     m->body_encoder.layers.push_back(
         sal_hidden(rng, "body_encoder." + std::to_string(i), in, o.body_widths[i]));
@@ -198,14 +199,14 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
   m->garment_encoder = graph_stack(
       rng, "garment_encoder", {Feature::rest_position, Feature::rest_normal, Feature::rest_joint_distances},
       input_width({Feature::rest_position, Feature::rest_normal, Feature::rest_joint_distances}, skeleton,
-                  shape),
+                  shape, o.code_width),
       o.garment_widths, o, nn::Activation::tanh());
 
   // torch.nn.GRU's default: every weight and bias ~ U(-1/sqrt(H), 1/sqrt(H)).
   m->motion_encoder.name = "motion_encoder";
   const nn::Index h = o.code_width;
   const double bound = 1.0 / std::sqrt(static_cast<double>(h));
-  in = input_width(m->motion_features, skeleton, shape);
+  in = input_width(m->motion_features, skeleton, shape, o.code_width);
   for (int32_t l = 0; l < o.gru_layers; ++l) {
     nn::GruLayer layer;
     layer.w_ih.resize(l == 0 ? in : h, 3 * h);
@@ -221,9 +222,9 @@ std::shared_ptr<Model> initialize_model(const ModelSkeleton& skeleton, const std
 
   m->skinning = sal_softmax_head(rng, "skinning", o.code_width, skeleton.joint_count());
   m->blend = graph_stack(rng, "blend", {}, o.code_width, o.blend_widths, o, nn::Activation::identity());
-  const std::vector<Feature> refinement = {Feature::velocity, Feature::normal,
-                                           Feature::posed_joint_distances};
-  m->refinement = graph_stack(rng, "refinement", refinement, input_width(refinement, skeleton, shape),
+  if (o.refinement_features.empty()) bad_option("refinement_features is empty");
+  m->refinement = graph_stack(rng, "refinement", o.refinement_features,
+                              input_width(o.refinement_features, skeleton, shape, o.code_width),
                               o.refinement_widths, o, nn::Activation::identity());
 
   TrainingInfo& t = m->training;

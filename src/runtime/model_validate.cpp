@@ -134,13 +134,13 @@ nn::Index check_features(const Checker& c, const Model& m, const std::vector<Fea
   nn::Index width = 0;
   for (size_t i = 0; i < features.size(); ++i) {
     const auto value = static_cast<int32_t>(features[i]);
-    if (value < 0 || value > static_cast<int32_t>(Feature::posed_joint_distances))
+    if (value < 0 || value > static_cast<int32_t>(Feature::fused_code))
       c.bad(what + " entry " + std::to_string(i) + " is unknown feature " + std::to_string(value));
     if (!allowed.count(features[i]))
       c.bad(what + " entry " + std::to_string(i) + " '" + feature_name(features[i]) +
             "' is not an input of this stack");
     if (!seen.insert(features[i]).second) c.bad(what + " lists '" + feature_name(features[i]) + "' twice");
-    width += feature_width(features[i], m.joint_count(), m.shape_count());
+    width += feature_width(features[i], m.joint_count(), m.shape_count(), static_cast<int32_t>(m.code_width()));
   }
   return width;
 }
@@ -258,7 +258,8 @@ void validate_model(Model& m) {
   const nn::Index motion_in = check_features(
       c, m, m.motion_features, {Feature::joint_rotations_6d, Feature::root_velocity}, "motion_features");
   const nn::Index refinement_in = check_features(
-      c, m, m.refinement.features, {Feature::velocity, Feature::normal, Feature::posed_joint_distances},
+      c, m, m.refinement.features,
+      {Feature::velocity, Feature::normal, Feature::posed_joint_distances, Feature::fused_code},
       "refinement features");
   // The blend stack reads the fused code F, not raw features.
   if (!m.blend.features.empty()) c.bad("blend features must be empty (the blend stack reads the fused code)");
