@@ -368,9 +368,11 @@ void Instance::State::refine_offsets(const PoseSequence& poses, int64_t t, const
       const int32_t v = masked ? region.vertices[static_cast<size_t>(i)] : i;
       Eigen::Vector3f velocity = Eigen::Vector3f::Zero();
       if (previous != nullptr) velocity = (current.row(v) - previous->row(v)).transpose() * fps;
-      const FrameFeatures::FusedCode fused{fused_static.row(v).data(), motion_codes.row(code_row).data(), code};
+      const FrameFeatures::FusedCode fused{fused_static.row(v).data(), motion_codes.row(code_row).data(),
+                                           code};
       features.refinement_row(m.refinement.features, heading, velocity, normals.row(v).transpose(),
-                              current.row(v).transpose(), joint_positions, fused, refinement_in.row(i).data());
+                              current.row(v).transpose(), joint_positions, fused,
+                              refinement_in.row(i).data());
     }
     normalize_rows(m.refinement.normalization, refinement_in, begin, end);
   });

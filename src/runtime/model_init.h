@@ -31,7 +31,8 @@ struct ModelInitOptions {
   // The refinement's inputs (the paper's: the skinned garment's velocity,
   // normal and joint distances); Feature::fused_code adds F^t, the motion
   // history and the body (format version 5).
-  std::vector<Feature> refinement_features{Feature::velocity, Feature::normal, Feature::posed_joint_distances};
+  std::vector<Feature> refinement_features{Feature::velocity, Feature::normal,
+                                           Feature::posed_joint_distances};
   // The blend and refinement heads predict centimetres: cloth offsets of a
   // few cm are outputs of a few units, well inside what a tanh-fed identity
   // layer reaches, and the initial (random, ~0.3 unit) outputs move the

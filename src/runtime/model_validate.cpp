@@ -140,7 +140,8 @@ nn::Index check_features(const Checker& c, const Model& m, const std::vector<Fea
       c.bad(what + " entry " + std::to_string(i) + " '" + feature_name(features[i]) +
             "' is not an input of this stack");
     if (!seen.insert(features[i]).second) c.bad(what + " lists '" + feature_name(features[i]) + "' twice");
-    width += feature_width(features[i], m.joint_count(), m.shape_count(), static_cast<int32_t>(m.code_width()));
+    width +=
+        feature_width(features[i], m.joint_count(), m.shape_count(), static_cast<int32_t>(m.code_width()));
   }
   return width;
 }
