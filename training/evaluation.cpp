@@ -93,14 +93,41 @@ void NearestWeightsLbs::frames(int64_t first, int64_t count, float* out) {
   }
 }
 
-MetricsResult lbs_baseline(const Dataset& data) {
+MetricsResult frame_weighted(const std::vector<MetricsResult>& per_sequence) {
   MetricsResult total;
+  for (const MetricsResult& m : per_sequence) accumulate(&total, m);
+  return total;
+}
+
+MetricsResult frame_weighted(const std::vector<MetricsResult>& per_sequence,
+                             const std::vector<size_t>& indices) {
+  MetricsResult total;
+  for (size_t i : indices) accumulate(&total, per_sequence.at(i));
+  return total;
+}
+
+std::vector<MetricsResult> lbs_per_sequence(const Dataset& data) {
+  std::vector<MetricsResult> out;
   for (const TrainingSequence& s : data.sequences()) {
     std::vector<float> predicted(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
     NearestWeightsLbs(s).frames(0, s.frame_count(), predicted.data());
-    accumulate(&total, sequence_metrics(s, predicted.data()));
+    out.push_back(sequence_metrics(s, predicted.data()));
   }
-  return total;
+  return out;
+}
+
+MetricsResult lbs_baseline(const Dataset& data) {
+  return frame_weighted(lbs_per_sequence(data));
+}
+
+MetricsResult twin_metrics(const TrainingSequence& s, const TrainingSequence& twin, size_t index) {
+  if (twin.frame_count() != s.frame_count() || twin.truth.size(1) != s.truth.size(1))
+    fail(PLEAT_ERROR_INVALID_ARGUMENT,
+         "twin of sequence " + std::to_string(index) + " has " + std::to_string(twin.frame_count()) +
+             " frames of " + std::to_string(twin.truth.size(1)) + " vertices, the sequence " +
+             std::to_string(s.frame_count()) + " of " + std::to_string(s.truth.size(1)));
+  const torch::Tensor truth = twin.truth.contiguous();
+  return sequence_metrics(s, truth.data_ptr<float>());
 }
 
 MetricsResult twin_difference(const Dataset& data, const Dataset& twins) {
@@ -109,16 +136,8 @@ MetricsResult twin_difference(const Dataset& data, const Dataset& twins) {
                                            " twins for " + std::to_string(data.sequences().size()) +
                                            " sequences");
   MetricsResult total;
-  for (size_t i = 0; i < data.sequences().size(); ++i) {
-    const TrainingSequence &s = data.sequences()[i], &t = twins.sequences()[i];
-    if (t.frame_count() != s.frame_count() || t.truth.size(1) != s.truth.size(1))
-      fail(PLEAT_ERROR_INVALID_ARGUMENT,
-           "twin of sequence " + std::to_string(i) + " has " + std::to_string(t.frame_count()) +
-               " frames of " + std::to_string(t.truth.size(1)) + " vertices, the sequence " +
-               std::to_string(s.frame_count()) + " of " + std::to_string(s.truth.size(1)));
-    const torch::Tensor twin = t.truth.contiguous();
-    accumulate(&total, sequence_metrics(s, twin.data_ptr<float>()));
-  }
+  for (size_t i = 0; i < data.sequences().size(); ++i)
+    accumulate(&total, twin_metrics(data.sequences()[i], twins.sequences()[i], i));
   return total;
 }
 
@@ -136,12 +155,18 @@ std::vector<float> model_frames(const TrainingSequence& s, const std::shared_ptr
   return predicted;
 }
 
+std::vector<MetricsResult> model_per_sequence(const Dataset& data,
+                                              const std::shared_ptr<const runtime::Model>& model,
+                                              runtime::Stage stage, const runtime::InstanceOptions& options) {
+  std::vector<MetricsResult> out;
+  for (const TrainingSequence& s : data.sequences())
+    out.push_back(sequence_metrics(s, model_frames(s, model, stage, options).data()));
+  return out;
+}
+
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
                             runtime::Stage stage, const runtime::InstanceOptions& options) {
-  MetricsResult total;
-  for (const TrainingSequence& s : data.sequences())
-    accumulate(&total, sequence_metrics(s, model_frames(s, model, stage, options).data()));
-  return total;
+  return frame_weighted(model_per_sequence(data, model, stage, options));
 }
 
 }  // namespace pleat::training

@@ -17,6 +17,13 @@ MetricsResult sequence_metrics(const TrainingSequence& s, const float* predicted
 // total <- frame-weighted mean of total and m.
 void accumulate(MetricsResult* total, const MetricsResult& m);
 
+// The frame-weighted mean of per-sequence results (of those at `indices`,
+// in that order, when given): what the data-set functions below return, so a
+// report can score each sequence once and aggregate splits and clips from it.
+MetricsResult frame_weighted(const std::vector<MetricsResult>& per_sequence);
+MetricsResult frame_weighted(const std::vector<MetricsResult>& per_sequence,
+                             const std::vector<size_t>& indices);
+
 // Every garment vertex skinned with the skin weights of its nearest rest body
 // vertex (no network): the "LBS" row of the comparison tables. Binding (the
 // nearest-vertex search) happens at construction, so frames() is what a
@@ -36,11 +43,15 @@ class NearestWeightsLbs {
   Points3d posed_;
 };
 MetricsResult lbs_baseline(const Dataset& data);
+std::vector<MetricsResult> lbs_per_sequence(const Dataset& data);
 
 // The noise floor: each sequence's simulation scored against its twin's
 // (datagen twins: the same job with a slightly heavier cloth and a longer
 // lead-in), frame-weighted. twins[i] is the twin of data.sequences()[i].
 MetricsResult twin_difference(const Dataset& data, const Dataset& twins);
+// One sequence against its twin (throws INVALID_ARGUMENT naming `index` when
+// their frames or vertices differ).
+MetricsResult twin_metrics(const TrainingSequence& s, const TrainingSequence& twin, size_t index);
 
 // Table I's metrics: their names in model files and checkpoints, their fields.
 struct TableMetric {
@@ -66,5 +77,9 @@ std::vector<float> model_frames(const TrainingSequence& s, const std::shared_ptr
 MetricsResult model_metrics(const Dataset& data, const std::shared_ptr<const runtime::Model>& model,
                             runtime::Stage stage = runtime::Stage::refinement,
                             const runtime::InstanceOptions& options = {});
+std::vector<MetricsResult> model_per_sequence(const Dataset& data,
+                                              const std::shared_ptr<const runtime::Model>& model,
+                                              runtime::Stage stage = runtime::Stage::refinement,
+                                              const runtime::InstanceOptions& options = {});
 
 }  // namespace pleat::training

@@ -148,6 +148,93 @@ struct SplitRows {
   std::vector<std::pair<std::string, pleat::MetricsResult>> models;
 };
 
+using LoadedModels = std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>>;
+
+// Every sequence of a split scored once; the split's rows, its subsets' and
+// its clips' are frame-weighted means of these.
+struct SplitScores {
+  std::vector<std::string> dirs;
+  std::vector<pleat::MetricsResult> lbs, noise_floor;  // noise_floor: frame_count 0 without a twin
+  // [model][sequence]; skinning and blend-shape stages only with --stages.
+  std::vector<std::vector<pleat::MetricsResult>> skinning, blend_shapes, full;
+};
+
+SplitScores score_split(const pleat::training::TrainerConfig& c, const std::vector<std::string>& dirs,
+                        const LoadedModels& models, bool stages,
+                        const pleat::runtime::InstanceOptions& options) {
+  using pleat::runtime::Stage;
+  const pleat::training::Dataset data(dirs);
+  SplitScores scores;
+  scores.dirs = dirs;
+  scores.lbs = pleat::training::lbs_per_sequence(data);
+  scores.noise_floor.resize(dirs.size());
+  for (size_t i = 0; i < dirs.size(); ++i)
+    if (const auto t = c.twins.find(dirs[i]); t != c.twins.end())
+      scores.noise_floor[i] = pleat::training::twin_metrics(
+          data.sequences()[i], pleat::training::Dataset({t->second}).sequences().front(), i);
+  for (const auto& model : models) {
+    if (stages) {
+      scores.skinning.push_back(
+          pleat::training::model_per_sequence(data, model.second, Stage::skinning, options));
+      scores.blend_shapes.push_back(
+          pleat::training::model_per_sequence(data, model.second, Stage::blend_shapes, options));
+    }
+    scores.full.push_back(
+        pleat::training::model_per_sequence(data, model.second, Stage::refinement, options));
+  }
+  return scores;
+}
+
+// The sequences of `indices` that have a twin.
+std::vector<size_t> with_twin(const SplitScores& scores, const std::vector<size_t>& indices) {
+  std::vector<size_t> out;
+  for (size_t i : indices)
+    if (scores.noise_floor[i].frame_count > 0) out.push_back(i);
+  return out;
+}
+
+// E_verts per clip of a split, in the order the clips first appear: LBS, the
+// noise floor where every sequence of the clip has a twin, and each model
+// with its ratio to LBS. Shows which motions a model fails on.
+std::string clip_table(const std::string& title, const SplitScores& scores, const LoadedModels& models) {
+  using pleat::training::frame_weighted;
+  std::vector<std::pair<std::string, std::vector<size_t>>> clips;
+  for (size_t i = 0; i < scores.dirs.size(); ++i) {
+    const std::string clip = sequence_clip(scores.dirs[i]);
+    auto it = std::find_if(clips.begin(), clips.end(), [&](const auto& e) { return e.first == clip; });
+    if (it == clips.end()) it = clips.insert(clips.end(), {clip, {}});
+    it->second.push_back(i);
+  }
+  std::string table =
+      "\n#### " + title + " by clip (E_verts cm)\n\n| clip | sequences | frames | LBS | noise floor |";
+  std::string rule = "\n|---|---|---|---|---|";
+  for (const auto& model : models) {
+    table += " " + model.first + " | ratio |";
+    rule += "---|---|";
+  }
+  table += rule + "\n";
+  for (const auto& [clip, indices] : clips) {
+    const pleat::MetricsResult lbs = frame_weighted(scores.lbs, indices);
+    char cells[96];
+    std::snprintf(cells, sizeof cells, " | %zu | %lld | %.3f | ", indices.size(),
+                  static_cast<long long>(lbs.frame_count), lbs.e_verts_cm);
+    table += "| " + clip + cells;
+    if (with_twin(scores, indices).size() == indices.size()) {
+      std::snprintf(cells, sizeof cells, "%.3f |", frame_weighted(scores.noise_floor, indices).e_verts_cm);
+      table += cells;
+    } else {
+      table += " |";
+    }
+    for (const std::vector<pleat::MetricsResult>& full : scores.full) {
+      const double e = frame_weighted(full, indices).e_verts_cm;
+      std::snprintf(cells, sizeof cells, " %.3f | %.2f |", e, e / lbs.e_verts_cm);
+      table += cells;
+    }
+    table += "\n";
+  }
+  return table;
+}
+
 // The sequence folders of a split named on the command line ("train",
 // "validation" or "test"; anything else is refused, naming `flag`).
 const std::vector<std::string>& split_folders(const pleat::training::TrainerConfig& c,
@@ -187,57 +274,6 @@ std::string preview(const pleat::training::TrainerConfig& c, const std::string& 
          " and " + std::to_string(last) + "](" + png.filename().string() + ")\n";
 }
 
-// E_verts per clip of a split, in the order the clips first appear: LBS, the
-// noise floor where every sequence of the clip has a twin, and each model
-// with its ratio to LBS. Shows which motions a model fails on.
-std::string clip_table(
-    const pleat::training::TrainerConfig& c, const std::string& title, const std::vector<std::string>& dirs,
-    const std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>>& models,
-    const pleat::runtime::InstanceOptions& options) {
-  std::vector<std::pair<std::string, std::vector<std::string>>> clips;
-  for (const std::string& d : dirs) {
-    const std::string clip = sequence_clip(d);
-    auto it = std::find_if(clips.begin(), clips.end(), [&](const auto& e) { return e.first == clip; });
-    if (it == clips.end()) it = clips.insert(clips.end(), {clip, {}});
-    it->second.push_back(d);
-  }
-  std::string table =
-      "\n#### " + title + " by clip (E_verts cm)\n\n| clip | sequences | frames | LBS | noise floor |";
-  std::string rule = "\n|---|---|---|---|---|";
-  for (const auto& model : models) {
-    table += " " + model.first + " | ratio |";
-    rule += "---|---|";
-  }
-  table += rule + "\n";
-  for (const auto& [clip, clip_dirs] : clips) {
-    const pleat::training::Dataset data(clip_dirs);
-    const pleat::MetricsResult lbs = pleat::training::lbs_baseline(data);
-    std::vector<std::string> twins;
-    for (const std::string& d : clip_dirs)
-      if (const auto t = c.twins.find(d); t != c.twins.end()) twins.push_back(t->second);
-    char cells[96];
-    std::snprintf(cells, sizeof cells, " | %zu | %lld | %.3f | ", clip_dirs.size(),
-                  static_cast<long long>(lbs.frame_count), lbs.e_verts_cm);
-    table += "| " + clip + cells;
-    if (twins.size() == clip_dirs.size()) {
-      std::snprintf(cells, sizeof cells, "%.3f |",
-                    pleat::training::twin_difference(data, pleat::training::Dataset(twins)).e_verts_cm);
-      table += cells;
-    } else {
-      table += " |";
-    }
-    for (const auto& model : models) {
-      const double e =
-          pleat::training::model_metrics(data, model.second, pleat::runtime::Stage::refinement, options)
-              .e_verts_cm;
-      std::snprintf(cells, sizeof cells, " %.3f | %.2f |", e, e / lbs.e_verts_cm);
-      table += cells;
-    }
-    table += "\n";
-  }
-  return table;
-}
-
 int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
@@ -270,65 +306,61 @@ int evaluate(int argc, char** argv) {
   if (splits.empty()) splits = {"train", "validation", "test"};
   if (c.test.empty() && std::find(splits.begin(), splits.end(), "test") != splits.end())
     throw std::invalid_argument("the config names no test sequences (or leave test out of --splits)");
-  std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>> loaded;
+  LoadedModels loaded;
   for (const std::string& m : models)
     loaded.emplace_back(model_label(m, models), pleat::runtime::load_model_file(m));
   std::string report;
   std::vector<SplitRows> summary;
-  const auto section = [&](const std::string& title, const std::string& split,
-                           const std::vector<std::string>& dirs) {
-    if (dirs.empty()) return SplitRows{};
-    std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
-    const pleat::training::Dataset data(dirs);
+  // The rows of the sequences at `indices` of a scored split.
+  const auto section = [&](const std::string& title, const std::string& split, const SplitScores& scores,
+                           const std::vector<size_t>& indices) {
+    using pleat::training::frame_weighted;
     SplitRows rows;
     rows.split = split;
-    rows.lbs = pleat::training::lbs_baseline(data);
+    rows.lbs = frame_weighted(scores.lbs, indices);
     report +=
-        "\n### " + title + ": " + std::to_string(dirs.size()) + " sequences, " +
+        "\n### " + title + ": " + std::to_string(indices.size()) + " sequences, " +
         std::to_string(rows.lbs.frame_count) + " frames\n\n" +
         "| | E_verts cm | E_vnorm deg | E_fnorm deg | E_edge % | E_curv | E_low cm | E_mid cm | E_high cm | "
         "self-collision % | body penetration % |\n|---|---|---|---|---|---|---|---|---|---|---|\n" +
         table_row("LBS (nearest body weights)", rows.lbs);
-    std::vector<std::string> with_twin, twins;
-    for (const std::string& d : dirs)
-      if (const auto t = c.twins.find(d); t != c.twins.end())
-        with_twin.push_back(d), twins.push_back(t->second);
-    if (!twins.empty()) {
-      rows.noise_floor = pleat::training::twin_difference(pleat::training::Dataset(with_twin),
-                                                          pleat::training::Dataset(twins));
+    const std::vector<size_t> twinned = with_twin(scores, indices);
+    if (!twinned.empty()) {
+      rows.noise_floor = frame_weighted(scores.noise_floor, twinned);
       rows.has_noise_floor = true;
-      report += table_row("noise floor (twin simulations, " + std::to_string(twins.size()) + " of " +
-                              std::to_string(dirs.size()) + " sequences)",
+      report += table_row("noise floor (twin simulations, " + std::to_string(twinned.size()) + " of " +
+                              std::to_string(indices.size()) + " sequences)",
                           rows.noise_floor);
     }
-    for (const auto& [name, model] : loaded) {
+    for (size_t m = 0; m < loaded.size(); ++m) {
+      const std::string& name = loaded[m].first;
       if (stages) {
-        report +=
-            table_row(name + ", skinning stage",
-                      pleat::training::model_metrics(data, model, pleat::runtime::Stage::skinning, options));
-        report += table_row(
-            name + ", blend-shape stage",
-            pleat::training::model_metrics(data, model, pleat::runtime::Stage::blend_shapes, options));
+        report += table_row(name + ", skinning stage", frame_weighted(scores.skinning[m], indices));
+        report += table_row(name + ", blend-shape stage", frame_weighted(scores.blend_shapes[m], indices));
       }
-      rows.models.emplace_back(
-          name, pleat::training::model_metrics(data, model, pleat::runtime::Stage::refinement, options));
+      rows.models.emplace_back(name, frame_weighted(scores.full[m], indices));
       report += table_row(name, rows.models.back().second);
     }
     return rows;
   };
   for (const std::string& split : splits) {
     const std::vector<std::string>& dirs = split_folders(c, split, "--splits");
+    if (dirs.empty()) continue;
     const std::string title = split == "train"        ? "Training split"
                               : split == "validation" ? "Validation split"
                                                       : "Test split";
-    summary.push_back(section(title, split, dirs));
-    if (by_clip) report += clip_table(c, title, dirs, loaded, options);
+    std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
+    const SplitScores scores = score_split(c, dirs, loaded, stages, options);
+    std::vector<size_t> all(dirs.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    summary.push_back(section(title, split, scores, all));
+    if (by_clip) report += clip_table(title, scores, loaded);
     if (split != "test") continue;
-    std::vector<std::string> seen, held_out;
-    for (const std::string& d : dirs) (held_out_garment(d) ? held_out : seen).push_back(d);
+    std::vector<size_t> seen, held_out;
+    for (size_t i = 0; i < dirs.size(); ++i) (held_out_garment(dirs[i]) ? held_out : seen).push_back(i);
     if (!seen.empty() && !held_out.empty()) {
-      section("Test, garments seen in training", "test_seen", seen);
-      section("Test, held-out garments", "test_held_out", held_out);
+      section("Test, garments seen in training", "test_seen", scores, seen);
+      section("Test, held-out garments", "test_held_out", scores, held_out);
     }
   }
   if (!output.empty() && !loaded.empty())
