@@ -126,7 +126,18 @@ TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
       "plot": false, "model": {"code_width": 8, "body_widths": [8], "garment_widths": [8, 8], "gru_layers": 1,
                 "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
   std::string text;
+  // One run alone (a second core would take another): no table yet.
+  ASSERT_EQ(
+      pleat_test::run_command(cli() + " ablation " + root + "/config.json --only lgat_freqdiv 2>&1", &text),
+      0)
+      << text;
+  EXPECT_TRUE(std::filesystem::exists(root + "/ablation/lgat_freqdiv/checkpoint.json"));
+  EXPECT_FALSE(std::filesystem::exists(root + "/ablation/gat_freqdiv"));
+  EXPECT_FALSE(std::filesystem::exists(root + "/ablation/ablation.md"));
+  EXPECT_NE(pleat_test::run_command(cli() + " ablation " + root + "/config.json --only gcn 2>&1", &text), 0);
+  EXPECT_NE(text.find("ablation has no run 'gcn'"), std::string::npos) << text;
   ASSERT_EQ(pleat_test::run_command(cli() + " ablation " + root + "/config.json 2>&1", &text), 0) << text;
+  EXPECT_EQ(lines(root + "/ablation/lgat_freqdiv/log.csv"), 2) << "lgat_freqdiv is not trained again";
   for (const char* run : {"gat_freqdiv", "lgat_freqdiv", "flexigat_plain", "flexigat_freqdiv"}) {
     EXPECT_NE(text.find(run), std::string::npos) << text;
     EXPECT_TRUE(std::filesystem::exists(root + "/ablation/" + run + "/checkpoint.json")) << run;

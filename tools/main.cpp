@@ -39,7 +39,7 @@ const char* kUsage =
     "      -o DIR  --shard i/n (one of n farm tasks)  --force (redo all)  --report FILE\n"
     "  train config.json [--epochs N]   train a model (docs/training.md; runs pleat-train)\n"
     "  export config.json -o m.pleat    the kept epoch as a model file (pleat-train)\n"
-    "  ablation config.json             the four runs of the paper's Table I (pleat-train)\n"
+    "  ablation config.json [--only R]  the four runs of the paper's Table I (pleat-train)\n"
     "  bench config.json --model M -o DIR  run time against error on the test split: every\n"
     "                                   host setting, libtorch and LBS (pleat-train; docs/benchmarks.md)\n"
     "      --threads N --repeats N --no-libtorch\n"

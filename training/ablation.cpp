@@ -1,15 +1,17 @@
 #include "ablation.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "capi/pleat.h"
 #include "core/error.h"
 
 namespace pleat::training {
 
-std::vector<AblationRow> run_ablation(const TrainerConfig& base) {
+std::vector<AblationRow> run_ablation(const TrainerConfig& base, const std::string& only) {
   struct Variant {
     const char* name;
     nn::AttentionVariant variant;
@@ -19,8 +21,13 @@ std::vector<AblationRow> run_ablation(const TrainerConfig& base) {
                               {"lgat_freqdiv", nn::AttentionVariant::lgat, true},
                               {"flexigat_plain", nn::AttentionVariant::flexigat, false},
                               {"flexigat_freqdiv", nn::AttentionVariant::flexigat, true}};
+  if (!only.empty() && std::none_of(std::begin(variants), std::end(variants),
+                                    [&](const Variant& v) { return only == v.name; }))
+    fail(PLEAT_ERROR_INVALID_ARGUMENT,
+         "ablation has no run '" + only + "' (gat_freqdiv, lgat_freqdiv, flexigat_plain, flexigat_freqdiv)");
   std::vector<AblationRow> rows;
   for (const Variant& v : variants) {
+    if (!only.empty() && only != v.name) continue;
     TrainerConfig c = base;
     c.output = base.output + "/" + v.name;
     c.model.variant = v.variant;
@@ -34,6 +41,7 @@ std::vector<AblationRow> run_ablation(const TrainerConfig& base) {
     }
     rows.push_back({v.name, result});
   }
+  if (!only.empty()) return rows;
   std::filesystem::create_directories(base.output);
   std::ofstream md(base.output + "/ablation.md"), csv(base.output + "/ablation.csv");
   md << "| configuration | E_verts (cm) | E_vnorm (°) | E_fnorm (°) | E_edge (%) | E_curv | E_low (cm) | "

@@ -16,7 +16,10 @@ struct AblationRow {
 };
 
 // Runs into <base.output>/<run name>/ (each resumable) and writes
-// <base.output>/ablation.md and ablation.csv.
-std::vector<AblationRow> run_ablation(const TrainerConfig& base);
+// <base.output>/ablation.md and ablation.csv. With `only` (a run name) it
+// trains that run alone and writes no table: one process per core, and a
+// last call without `only` finds every run done and writes the table.
+// Throws INVALID_ARGUMENT on an unknown name.
+std::vector<AblationRow> run_ablation(const TrainerConfig& base, const std::string& only = "");
 
 }  // namespace pleat::training

@@ -5,8 +5,8 @@
 //   pleat-train train config.json [--epochs N]   train (resumes from the output's checkpoint),
 //                                                then write <output>/model.pleat
 //   pleat-train export config.json -o model.pleat  the kept epoch as a model file
-//   pleat-train ablation config.json              the four runs of the paper's Table I and
-//                                                <output>/ablation.md
+//   pleat-train ablation config.json [--only RUN] the four runs of the paper's Table I and
+//                                                <output>/ablation.md (--only: that run alone)
 //   pleat-train baseline config.json [--splits ...] evaluate without a model: plain LBS (nearest
 //                                                body weights) and the noise floor on each split
 //   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
@@ -51,7 +51,7 @@ namespace {
 const char* kUsage =
     "usage: pleat-train train config.json [--epochs N]\n"
     "       pleat-train export config.json -o model.pleat\n"
-    "       pleat-train ablation config.json\n"
+    "       pleat-train ablation config.json [--only RUN]\n"
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
     "[--top-k K] [--splits train,validation,test] [--by-clip] [-o report.md]\n"
@@ -93,8 +93,10 @@ int export_model(int argc, char** argv) {
 }
 
 int ablation(int argc, char** argv) {
-  if (argc != 3) throw std::invalid_argument("ablation needs a config file");
-  const auto rows = pleat::training::run_ablation(pleat::training::read_trainer_config(argv[2]));
+  std::string only;
+  if (argc == 5 && std::strcmp(argv[3], "--only") == 0) only = argv[4];
+  if (argc != 3 && only.empty()) throw std::invalid_argument("ablation needs a config file [--only RUN]");
+  const auto rows = pleat::training::run_ablation(pleat::training::read_trainer_config(argv[2]), only);
   for (const auto& r : rows)
     std::printf("%-18s E_verts %.3f cm  E_mid %.3f cm\n", r.name.c_str(), r.result.validation.e_verts_cm,
                 r.result.validation.e_mid_cm);
