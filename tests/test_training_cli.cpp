@@ -141,6 +141,13 @@ TEST(TrainingCli, AblationTrainsTheFourConfigurationsAndWritesTheTable) {
   for (const char* run : {"gat_freqdiv", "lgat_freqdiv", "flexigat_plain", "flexigat_freqdiv"}) {
     EXPECT_NE(text.find(run), std::string::npos) << text;
     EXPECT_TRUE(std::filesystem::exists(root + "/ablation/" + run + "/checkpoint.json")) << run;
+    EXPECT_EQ(pleat::runtime::load_model_file(root + "/ablation/" + run + "/model.pleat")
+                  ->garment_encoder.layers[0]
+                  .variant,
+              std::string(run).rfind("gat_", 0) == 0    ? pleat::nn::AttentionVariant::gat
+              : std::string(run).rfind("lgat_", 0) == 0 ? pleat::nn::AttentionVariant::lgat
+                                                        : pleat::nn::AttentionVariant::flexigat)
+        << run;
   }
   EXPECT_EQ(lines(root + "/ablation/ablation.md"), 6) << "header, rule and four rows";
   EXPECT_EQ(lines(root + "/ablation/ablation.csv"), 5);

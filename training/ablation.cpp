@@ -8,6 +8,7 @@
 
 #include "capi/pleat.h"
 #include "core/error.h"
+#include "runtime/model_file.h"
 
 namespace pleat::training {
 
@@ -35,6 +36,8 @@ std::vector<AblationRow> run_ablation(const TrainerConfig& base, const std::stri
     if (c.progress) std::fprintf(stderr, "ablation: %s\n", v.name);
     Trainer trainer(c);
     EpochResult result = trainer.run();
+    // As `pleat train` leaves a run: the rows' models can be scored on test.
+    runtime::save_model(*trainer.export_model(), c.output + "/model.pleat");
     if (trainer.best_epoch() > 0) {  // report what export writes
       result.epoch = trainer.best_epoch();
       result.validation = trainer.best_validation();

@@ -15,8 +15,9 @@ struct AblationRow {
   EpochResult result;  // the last epoch's, with the kept epoch's number and validation metrics
 };
 
-// Runs into <base.output>/<run name>/ (each resumable) and writes
-// <base.output>/ablation.md and ablation.csv. With `only` (a run name) it
+// Runs into <base.output>/<run name>/ (each resumable, each leaving its
+// kept epoch in model.pleat) and writes <base.output>/ablation.md and
+// ablation.csv. With `only` (a run name) it
 // trains that run alone and writes no table: one process per core, and a
 // last call without `only` finds every run done and writes the table.
 // Throws INVALID_ARGUMENT on an unknown name.

@@ -88,7 +88,9 @@ int export_model(int argc, char** argv) {
   if (trainer.epoch() == 0)
     throw std::invalid_argument("no checkpoint in '" + config.output + "': train first");
   pleat::runtime::save_model(*trainer.export_model(), argv[4]);
-  std::printf("wrote %s (epoch %lld)\n", argv[4], static_cast<long long>(trainer.epoch()));
+  std::printf("wrote %s (epoch %lld of %lld)\n", argv[4],
+              static_cast<long long>(trainer.best_epoch() > 0 ? trainer.best_epoch() : trainer.epoch()),
+              static_cast<long long>(trainer.epoch()));
   return 0;
 }
 
