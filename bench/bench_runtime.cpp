@@ -207,18 +207,25 @@ int main(int argc, char** argv) {
     }
   }
 
-  // What two model settings cost on top of the full stage: top-8 skinning
-  // (decision 0007) and the offset filter (decision 0008), one thread,
-  // ratios to the plain model measured in the same run.
+  // What model settings cost on top of the full stage: top-8 skinning
+  // (decision 0007), the offset filter (decision 0008) and the refinement
+  // reading the fused code (decision 0015), one thread, ratios to the plain
+  // model measured in the same run.
   std::shared_ptr<const Garment> garment = skirt(64, 64, hips);
   std::printf("\nmodel settings, full stage, N = %d, 1 thread, batch of 8\n", garment->rest.vertex_count());
-  std::printf("%-28s %9s %7s\n", "setting", "ms/frame", "ratio");
+  std::printf("%-32s %9s %7s\n", "setting", "ms/frame", "ratio");
   double plain = 0.0;
-  for (auto [name, top_k, h] : {std::tuple<const char*, int, float>{"top-4, no filter", 4, 0.0f},
-                                {"top-8, no filter", 8, 0.0f},
-                                {"top-4, filter h 1 cm", 4, 0.01f},
-                                {"top-8, filter h 1 cm", 8, 0.01f}}) {
-    auto variant = std::make_shared<Model>(*model);
+  ModelInitOptions reads_code;
+  reads_code.refinement_features.push_back(Feature::fused_code);
+  const std::shared_ptr<const Model> fused = initialize_model(skeleton, shape, reads_code);
+  for (auto [name, top_k, h, base] :
+       {std::tuple<const char*, int, float, const Model*>{"top-4, no filter", 4, 0.0f, model.get()},
+        {"top-8, no filter", 8, 0.0f, model.get()},
+        {"top-4, filter h 1 cm", 4, 0.01f, model.get()},
+        {"top-8, filter h 1 cm", 8, 0.01f, model.get()},
+        {"top-8, refinement + F^t", 8, 0.0f, fused.get()},
+        {"top-8, filter, refinement + F^t", 8, 0.01f, fused.get()}}) {
+    auto variant = std::make_shared<Model>(*base);
     variant->default_top_k = top_k;
     variant->offset_filter_length = h;
     InstanceOptions options;
@@ -229,7 +236,7 @@ int main(int argc, char** argv) {
     outputs.positions = {out.data(), size_t(instance.vertex_count()) * 3};
     const double t = seconds_per_frame(instance, poses, Stage::refinement, outputs, reps);
     if (plain == 0.0) plain = t;
-    std::printf("%-28s %9.3f %7.3f\n", name, t * 1e3, t / plain);
+    std::printf("%-32s %9.3f %7.3f\n", name, t * 1e3, t / plain);
   }
 
   // The refinement's level of detail (pleat_evaluate_options.
