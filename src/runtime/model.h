@@ -11,7 +11,7 @@
 //   weights     W^t = softmax(F^t · skinning.weight + skinning.bias + prior) (N x S)
 //   blend       T^t = T̄ + blend_scale · blend(F^t)
 //   skinning    M̃^t = LBS(T^t, joint transforms of frame t, W^t)
-//   refinement  M^t = M̃^t + refinement_scale · refinement(features of M̃^t)
+//   refinement  M^t = M̃^t + refinement_scale · refinement(features of M̃^t [, F^t])
 // With offset_filter_length h > 0, what the blend shapes add to the skinned
 // garment (LBS(T^t) − LBS(T̄)) and the refinement's displacement pass through
 // the garment's offset filter (I + L_h)^{-1} (runtime/offset_filter.h).
