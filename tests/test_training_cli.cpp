@@ -276,6 +276,7 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   std::ifstream(fast + "/meta.json") >> meta;
   meta["motion"]["source"] = "/clips/75_02.bvh";
   meta["simulator"]["motion_speed"] = 1.3;
+  meta["simulator"]["held_out_garment"] = true;
   std::ofstream(fast + "/meta.json") << meta.dump();
   std::ofstream(root + "/set/splits.json") << R"({"train": [], "validation": [],
       "test": ["skirt_walk", "skirt_fast"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
@@ -301,6 +302,20 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   const double other_lbs = std::stod(clips.substr(other + 22));
   EXPECT_GT(other_lbs, lbs) << "its skirt is pushed further out";
   EXPECT_NE(clips.find(" |  | ", other), std::string::npos) << "no twin, no floor: " << clips;
+  // Its garment is held out, so the test split is also scored seen / held
+  // out, each with its summary line: held out is that one sequence.
+  const size_t held_out = clips.find("summary: model=model split=test_held_out e_verts_cm=");
+  ASSERT_NE(held_out, std::string::npos) << clips;
+  char held_out_tail[80];
+  std::snprintf(held_out_tail, sizeof held_out_tail, " lbs_e_verts_cm=%.3f noise_floor_cm=none", other_lbs);
+  const std::string held_out_line = clips.substr(held_out, clips.find('\n', held_out) - held_out);
+  EXPECT_NE(held_out_line.find(held_out_tail), std::string::npos) << held_out_line;
+  char seen_line[160];
+  std::snprintf(
+      seen_line, sizeof seen_line,
+      "summary: model=model split=test_seen e_verts_cm=%.3f lbs_e_verts_cm=%.3f noise_floor_cm=%.3f\n",
+      std::stod(walk_model), lbs, floor);
+  EXPECT_NE(clips.find(seen_line), std::string::npos) << seen_line << "\n" << clips;
 }
 
 // `pleat bench`: every host setting on the test split with its run time and

@@ -363,8 +363,8 @@ int evaluate(int argc, char** argv) {
     std::vector<size_t> seen, held_out;
     for (size_t i = 0; i < dirs.size(); ++i) (held_out_garment(dirs[i]) ? held_out : seen).push_back(i);
     if (!seen.empty() && !held_out.empty()) {
-      section("Test, garments seen in training", "test_seen", scores, seen);
-      section("Test, held-out garments", "test_held_out", scores, held_out);
+      summary.push_back(section("Test, garments seen in training", "test_seen", scores, seen));
+      summary.push_back(section("Test, held-out garments", "test_held_out", scores, held_out));
     }
   }
   if (!output.empty() && !loaded.empty())
