@@ -24,7 +24,7 @@ TEST(DemoModel, IsTrainedAndDrivesTheSampleDress) {
       load_model_file(pleat_test::source_dir() + "/data/models/demo.pleat");
   EXPECT_GE(model->training.epochs, 1);
   EXPECT_EQ(model->default_top_k, 8) << "the MakeHuman body's largest influence count (decision 0007)";
-  EXPECT_EQ(model->offset_filter_length, 0.03f) << "the demo configs' offset filter (decision 0008)";
+  EXPECT_TRUE(refinement_reads_code(*model)) << "the per-asset recipe's refinement reads F^t (decision 0015)";
   EXPECT_NE(model->training.dataset.find("training sequences"), std::string::npos) << model->training.dataset;
 
   ImportedMesh mesh = import_mesh(pleat_test::source_dir() + "/data/garments/female_elegantsuit01.obj");
