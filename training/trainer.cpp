@@ -426,7 +426,7 @@ std::shared_ptr<runtime::Model> Trainer::export_model() const {
   if (best_epoch_ > 0)
     t.schedule += "; kept epoch " + std::to_string(best_epoch_) + " of " + std::to_string(epoch_) +
                   " (lowest validation E_verts)";
-  t.epochs = best_epoch_ > 0 ? best_epoch_ : epoch_;
+  t.epochs = exported_epoch();
   t.seed = static_cast<int64_t>(config_.seed);
   t.created = iso_now();
   t.generator = "pleat " PLEAT_VERSION_STRING " trainer";

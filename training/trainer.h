@@ -67,6 +67,8 @@ class Trainer {
   std::shared_ptr<runtime::Model> export_model() const;
   int64_t epoch() const { return epoch_; }
   int64_t best_epoch() const { return best_epoch_; }  // 0: none kept (no validation data)
+  // The epoch export_model() writes.
+  int64_t exported_epoch() const { return best_epoch_ > 0 ? best_epoch_ : epoch_; }
   const MetricsResult& best_validation() const { return best_validation_; }
   const MetricsResult& validation_baseline() const { return validation_lbs_; }
   const MetricsResult& training_baseline() const { return train_lbs_; }

@@ -74,7 +74,7 @@ int train(int argc, char** argv) {
   const bool kept = trainer.best_epoch() > 0;
   std::printf("trained %lld epochs; wrote %s: epoch %lld, validation E_verts %.3f cm\n",
               static_cast<long long>(trainer.epoch()), out.c_str(),
-              static_cast<long long>(kept ? trainer.best_epoch() : trainer.epoch()),
+              static_cast<long long>(trainer.exported_epoch()),
               kept ? trainer.best_validation().e_verts_cm : r.validation.e_verts_cm);
   return 0;
 }
@@ -88,8 +88,7 @@ int export_model(int argc, char** argv) {
   if (trainer.epoch() == 0)
     throw std::invalid_argument("no checkpoint in '" + config.output + "': train first");
   pleat::runtime::save_model(*trainer.export_model(), argv[4]);
-  std::printf("wrote %s (epoch %lld of %lld)\n", argv[4],
-              static_cast<long long>(trainer.best_epoch() > 0 ? trainer.best_epoch() : trainer.epoch()),
+  std::printf("wrote %s (epoch %lld of %lld)\n", argv[4], static_cast<long long>(trainer.exported_epoch()),
               static_cast<long long>(trainer.epoch()));
   return 0;
 }
