@@ -138,23 +138,64 @@ TEST(MeshImport, BinaryGltfLengthsBeyondTheFileAreRefused) {
 
 namespace {
 
-// Binary FBX 7.4 of `depth` records nested in one another (name "A", no
-// properties), each list closed by a 13-byte null record.
-std::string nested_binary_fbx(int depth) {
+// Binary FBX 7.4 (32-bit offsets): the header, then records.
+std::string binary_fbx_header() {
   std::string out("Kaydara FBX Binary  \0\x1a\0", 23);
   const uint32_t version = 7400;
   out.append(reinterpret_cast<const char*>(&version), 4);
+  return out;
+}
+
+std::string fbx_int64(int64_t v) {
+  return "L" + std::string(reinterpret_cast<const char*>(&v), 8);
+}
+
+std::string fbx_string(const std::string& v) {
+  const auto n = static_cast<uint32_t>(v.size());
+  return "S" + std::string(reinterpret_cast<const char*>(&n), 4) + v;
+}
+
+// Appends one record; `children` (if any) appends the nested records, which
+// a 13-byte null record closes.
+void append_fbx_record(std::string* out, const std::string& name, const std::string& properties,
+                       uint32_t property_count, const std::function<void()>& children = {}) {
+  const size_t start = out->size();
+  out->append(12, '\0');
+  *out += static_cast<char>(name.size());
+  *out += name + properties;
+  if (children) {
+    children();
+    out->append(13, '\0');
+  }
+  const uint32_t fields[3] = {static_cast<uint32_t>(out->size()), property_count,
+                              static_cast<uint32_t>(properties.size())};
+  std::memcpy(&(*out)[start], fields, sizeof(fields));
+}
+
+// `depth` records named "A" nested in one another.
+std::string nested_binary_fbx(int depth) {
+  std::string out = binary_fbx_header();
   std::function<void(int)> record = [&](int level) {
-    const size_t start = out.size();
-    out.append(12, '\0');
-    out += '\1';
-    out += 'A';
-    if (level + 1 < depth) record(level + 1);
-    out.append(13, '\0');
-    const auto end = static_cast<uint32_t>(out.size());
-    std::memcpy(&out[start], &end, 4);
+    append_fbx_record(&out, "A", "", 0, [&] {
+      if (level + 1 < depth) record(level + 1);
+    });
   };
   record(0);
+  out.append(13, '\0');
+  return out;
+}
+
+// Two models, 1 a child of 2, and 2 a child of 1 when `cyclic` (else of the
+// scene root, 0).
+std::string linked_models_binary_fbx(bool cyclic) {
+  std::string out = binary_fbx_header();
+  append_fbx_record(&out, "Objects", "", 0, [&] {
+    for (int64_t id : {1, 2}) append_fbx_record(&out, "Model", fbx_int64(id) + fbx_string("Null"), 2);
+  });
+  append_fbx_record(&out, "Connections", "", 0, [&] {
+    append_fbx_record(&out, "C", fbx_string("OO") + fbx_int64(1) + fbx_int64(2), 3);
+    append_fbx_record(&out, "C", fbx_string("OO") + fbx_int64(2) + fbx_int64(cyclic ? 1 : 0), 3);
+  });
   out.append(13, '\0');
   return out;
 }
@@ -183,4 +224,26 @@ TEST(MeshImport, FbxNestedBeyondAnyRealSceneIsRefused) {
           << e.what();
     }
   }
+}
+
+// assimp converts FBX models by descending from the root to each model's
+// children, so a model that is its own ancestor recurses until the stack
+// overflows (fuzz_fbx found one connected to itself, in 8.7 kB of ASCII).
+// Such files are refused first, in both encodings; a tree of models passes.
+TEST(MeshImport, FbxModelCyclesAreRefused) {
+  const std::string dir = pleat_test::temp_dir("import_fbx_cycles");
+  std::ofstream(dir + "/cyclic.fbx", std::ios::binary) << linked_models_binary_fbx(true);
+  std::ofstream(dir + "/tree.fbx", std::ios::binary) << linked_models_binary_fbx(false);
+  const std::string found = pleat_test::source_dir() + "/tests/fuzz/seeds/fbx/finding-model-own-parent.fbx";
+  for (auto [path, cyclic] :
+       {std::pair<std::string, bool>{dir + "/cyclic.fbx", true}, {dir + "/tree.fbx", false}, {found, true}}) {
+    try {
+      import_mesh(path);
+      ADD_FAILURE() << path << " loaded";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.status(), PLEAT_ERROR_FORMAT) << e.what();
+      EXPECT_EQ(std::string(e.what()).find("is its own ancestor") != std::string::npos, cyclic) << e.what();
+    }
+  }
+  EXPECT_THROW(pleat::import_rig(found), Error);
 }

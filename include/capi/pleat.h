@@ -206,7 +206,7 @@ typedef struct pleat_cache_info {
 #define PLEAT_BODY_AUTO 0        /* a folder: MakeHuman assets; .npz: SMPL layout; else a rigged mesh */
 #define PLEAT_BODY_MAKEHUMAN 1   /* the open body model from MakeHuman's CC0 assets folder */
 #define PLEAT_BODY_SMPL_NPZ 2    /* an SMPL-layout .npz (bring your own licensed file) */
-#define PLEAT_BODY_RIGGED_MESH 3 /* any skinned character: FBX, glTF (through assimp) */
+#define PLEAT_BODY_RIGGED_MESH 3 /* any skinned character: FBX (through assimp), glTF */
 
 /* MakeHuman rigs (pleat_body_load_options.rig). */
 #define PLEAT_RIG_CMU_MB 0            /* 31 joints named like the CMU BVH clips */
@@ -387,7 +387,7 @@ PLEAT_EXPORT const char* pleat_status_name(pleat_status status);
 
 /* ---- Garments ------------------------------------------------------------ */
 
-/* Loads a garment from an OBJ, FBX or glTF file (through assimp), or a
+/* Loads a garment from an OBJ, FBX (through assimp) or glTF file, or a
    prepared-garment file written by pleat_garment_save (recognised by its
    FlatBuffers identifier; options are then ignored). Welds coincident
    vertices, builds the edge graph, rest normals and vertex areas, and fills

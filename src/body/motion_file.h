@@ -1,6 +1,6 @@
 #pragma once
-// A motion clip from a file: BVH (by extension), else any animation assimp
-// reads (FBX, glTF, ...). Shared by the C API and pleat-datagen's importer.
+// A motion clip from a file: BVH (by extension), else a rig file's animation
+// (body/rig_import: glTF, FBX, ...). Shared by the C API and pleat-datagen's importer.
 #include <cstdint>
 #include <string>
 

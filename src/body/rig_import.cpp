@@ -1,11 +1,8 @@
 #include "body/rig_import.h"
 
-#include <assimp/config.h>
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
-#include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,7 +10,7 @@
 #include <set>
 
 #include "core/error.h"
-#include "io/assimp_support.h"
+#include "io/scene_file.h"
 
 namespace pleat {
 namespace {
@@ -376,17 +373,11 @@ ImportedRig import_rig(const std::string& path, const RigImportOptions& options)
     fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": scale must be positive and finite");
   if (!(options.frame_rate >= 0.0) || !std::isfinite(options.frame_rate))
     fail(PLEAT_ERROR_INVALID_ARGUMENT, path + ": frame_rate must be >= 0 (0 = the key rate)");
-  check_assimp_input(path);
-  Assimp::Importer importer;
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                                     aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
-  if (!scene || !scene->mRootNode)
-    fail(PLEAT_ERROR_FORMAT, path + ": cannot read the file: " + importer.GetErrorString());
+  const SceneFile file(path);
+  const aiScene* scene = &file.scene();
 
   ImportedRig rig;
-  rig.unit_scale = scene_unit_scale(scene) * options.scale;
+  rig.unit_scale = file.unit_scale() * options.scale;
   Eigen::Matrix4d unit = Eigen::Matrix4d::Identity();
   unit.topLeftCorner<3, 3>() *= rig.unit_scale;
 

@@ -1,7 +1,7 @@
 #pragma once
-// Skinned characters and their animation clips from FBX, glTF and the other
-// formats assimp reads (bones with offset matrices and vertex weights, a node
-// hierarchy, aiAnimation channels).
+// Skinned characters and their animation clips from glTF, FBX and the other
+// formats assimp reads (io/scene_file: bones with offset matrices and vertex
+// weights, a node hierarchy, aiAnimation channels).
 //
 // Rest pose = the node hierarchy's own transforms (for files written at bind,
 // the bind pose). The rest mesh is the skinned mesh at that pose:
@@ -50,7 +50,7 @@ struct ImportedRig {
   std::vector<int32_t> unweighted_vertices;
 };
 
-// Throws PLEAT_ERROR_IO (unreadable), PLEAT_ERROR_FORMAT (assimp's reason,
+// Throws PLEAT_ERROR_IO (unreadable), PLEAT_ERROR_FORMAT (the reader's reason,
 // no triangles, no bones, a bone without a node, two bone nodes with one
 // name) or PLEAT_ERROR_INVALID_ARGUMENT (bad options, non-finite data).
 ImportedRig import_rig(const std::string& path, const RigImportOptions& options = {});

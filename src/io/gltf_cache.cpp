@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/gltf_accessor.h"
 #include "io/text_file.h"
 
 namespace pleat {
@@ -78,50 +79,12 @@ std::string frame_name(size_t f) {
 
 // ---- Reading ---------------------------------------------------------------
 
-// The floats of accessor `index` (count * components), checked against its
-// view and buffer. An accessor without a view is zeros, as glTF defines.
+// The floats of accessor `index` (count * components); see io/gltf_accessor.h.
 std::vector<float> accessor_floats(const tinygltf::Model& model, int index, int components,
                                    const std::string& path, const std::string& field) {
-  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
-    fail_format(path, field + " names accessor " + std::to_string(index) + " of " +
-                          std::to_string(model.accessors.size()));
-  const tinygltf::Accessor& a = model.accessors[static_cast<size_t>(index)];
-  const std::string name = field + " (accessor " + std::to_string(index) + ")";
-  if (a.sparse.isSparse) fail_format(path, name + " is sparse, which pleat does not read");
-  if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
-    fail_format(path, name + " has component type " + std::to_string(a.componentType) + ", not float");
-  if (tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type)) != components)
-    fail_format(path, name + " has " +
-                          std::to_string(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type))) +
-                          " components, not " + std::to_string(components));
-  const uint64_t count = a.count;
-  if (count > (uint64_t{1} << 31))
-    fail_format(path, name + " count " + std::to_string(count) + " is too large");
-  std::vector<float> out(count * static_cast<uint64_t>(components), 0.0f);
-  if (a.bufferView < 0) return out;
-  if (static_cast<size_t>(a.bufferView) >= model.bufferViews.size())
-    fail_format(path, name + " names buffer view " + std::to_string(a.bufferView) + " of " +
-                          std::to_string(model.bufferViews.size()));
-  const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(a.bufferView)];
-  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
-    fail_format(path, name + ": its view names buffer " + std::to_string(view.buffer) + " of " +
-                          std::to_string(model.buffers.size()));
-  const std::vector<unsigned char>& data = model.buffers[static_cast<size_t>(view.buffer)].data;
-  const uint64_t element = 4 * static_cast<uint64_t>(components);
-  const uint64_t stride = view.byteStride == 0 ? element : static_cast<uint64_t>(view.byteStride);
-  if (stride < element)
-    fail_format(path, name + ": byte stride " + std::to_string(stride) + " < element size");
-  if (count == 0) return out;
-  // Counts are below 2^31 and offsets below 2^63 once checked, so the sums
-  // below stay in range.
-  const uint64_t span = (count - 1) * stride + element;
-  if (a.byteOffset > view.byteLength || span > view.byteLength - a.byteOffset ||
-      view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
-    fail_format(path, name + " reaches past the end of its buffer view or buffer");
-  const unsigned char* first = data.data() + view.byteOffset + a.byteOffset;
-  for (uint64_t i = 0; i < count; ++i)
-    std::memcpy(&out[i * static_cast<uint64_t>(components)], first + i * stride, element);
-  return out;
+  const std::vector<double> values =
+      read_gltf_accessor(model, index, components, {TINYGLTF_COMPONENT_TYPE_FLOAT}, path, field);
+  return {values.begin(), values.end()};
 }
 
 void require_finite(const std::vector<float>& values, const std::string& path, const std::string& field) {

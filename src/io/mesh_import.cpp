@@ -1,13 +1,11 @@
 #include "io/mesh_import.h"
 
-#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
-#include <assimp/Importer.hpp>
 #include <vector>
 
 #include "core/error.h"
-#include "io/assimp_support.h"
+#include "io/scene_file.h"
 
 namespace pleat {
 namespace {
@@ -39,23 +37,15 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 }  // namespace
 
 ImportedMesh import_mesh(const std::string& path) {
-  check_assimp_input(path);
-
-  Assimp::Importer importer;
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // ValidateDataStructure: assimp checks every mesh, face and node index of
-  // the scene it built from a damaged file before we walk it.
-  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                                                     aiProcess_SortByPType | aiProcess_JoinIdenticalVertices);
-  if (!scene || !scene->mRootNode)
-    fail(PLEAT_ERROR_FORMAT, path + ": cannot read the mesh: " + importer.GetErrorString());
+  const SceneFile file(path);
+  const aiScene* scene = &file.scene();
 
   Collector c;
   collect(scene, scene->mRootNode, aiMatrix4x4(), &c);
   if (c.indices.empty()) fail(PLEAT_ERROR_INVALID_MESH, path + ": the file holds no triangles");
 
   ImportedMesh mesh;
-  mesh.unit_scale = scene_unit_scale(scene);
+  mesh.unit_scale = file.unit_scale();
   mesh.vertices =
       Eigen::Map<Points3d>(c.positions.data(), static_cast<Eigen::Index>(c.positions.size() / 3), 3) *
       mesh.unit_scale;

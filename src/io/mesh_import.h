@@ -1,5 +1,6 @@
 #pragma once
-// Triangle meshes from OBJ, FBX, glTF and the other formats assimp reads.
+// Triangle meshes from glTF (io/gltf_scene), and OBJ, FBX and the other
+// formats assimp reads (io/scene_file).
 #include <string>
 
 #include "core/mesh.h"
@@ -14,7 +15,7 @@ struct ImportedMesh {
 
 // Loads every mesh of the file's scene, with node transforms applied, into one
 // triangle soup. Points and lines are dropped; polygons are triangulated.
-// Throws PLEAT_ERROR_IO (unreadable) or PLEAT_ERROR_FORMAT (assimp's reason).
+// Throws PLEAT_ERROR_IO (unreadable) or PLEAT_ERROR_FORMAT (the reader's reason).
 ImportedMesh import_mesh(const std::string& path);
 
 }  // namespace pleat

@@ -1,5 +1,6 @@
 #pragma once
-// For the targets whose loader runs assimp (fuzz_gltf, fuzz_glb, fuzz_fbx):
+// For the target whose loader runs assimp (fuzz_fbx; glTF is read by pleat
+// since 2026-12-05 and its targets run with the real operator new):
 // assimp 5.2 sizes arrays from counts in the file before it checks them
 // against the file (an accessor of 2^32 - 2 elements asks for 64 GB). In a
 // real process that operator new throws std::bad_alloc, which assimp turns
@@ -19,15 +20,27 @@ inline void* bounded_allocation(size_t bytes) {
 }
 }  // namespace pleat_fuzz
 
-void* operator new(size_t bytes) { return pleat_fuzz::bounded_allocation(bytes); }
-void* operator new[](size_t bytes) { return pleat_fuzz::bounded_allocation(bytes); }
+void* operator new(size_t bytes) {
+  return pleat_fuzz::bounded_allocation(bytes);
+}
+void* operator new[](size_t bytes) {
+  return pleat_fuzz::bounded_allocation(bytes);
+}
 void* operator new(size_t bytes, const std::nothrow_t&) noexcept {
   return bytes <= pleat_fuzz::kLargestAllocation ? std::malloc(bytes ? bytes : 1) : nullptr;
 }
 void* operator new[](size_t bytes, const std::nothrow_t&) noexcept {
   return bytes <= pleat_fuzz::kLargestAllocation ? std::malloc(bytes ? bytes : 1) : nullptr;
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, size_t) noexcept { std::free(p); }
-void operator delete[](void* p, size_t) noexcept { std::free(p); }
+void operator delete(void* p) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p) noexcept {
+  std::free(p);
+}
+void operator delete(void* p, size_t) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, size_t) noexcept {
+  std::free(p);
+}

@@ -1,4 +1,5 @@
-// .fbx garments through assimp (io/mesh_import).
+// .fbx garments through pleat's checks of the file (io/fbx_precheck), then
+// assimp (io/mesh_import).
 #include "fuzz_bounded_new.h"
 #include "fuzz_support.h"
 #include "io/mesh_import.h"

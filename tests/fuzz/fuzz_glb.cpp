@@ -1,5 +1,5 @@
-// .glb garments through assimp (io/mesh_import).
-#include "fuzz_bounded_new.h"
+// .glb garments: tinygltf and pleat's checked walk of the scene (io/gltf_scene,
+// io/mesh_import).
 #include "fuzz_support.h"
 #include "io/mesh_import.h"
 

@@ -1,10 +1,10 @@
-// Rigged characters and their clips (.glb) through assimp and pleat's walk of
-// skins and animations (body/rig_import): a body that validates, weights on
+// Rigged characters and their clips (.glb) through tinygltf, pleat's checked
+// walk of the scene (io/gltf_scene) and of skins and animations
+// (body/rig_import): a body that validates, weights on
 // existing joints, finite clips on the rig's skeleton.
 #include <cmath>
 
 #include "body/rig_import.h"
-#include "fuzz_bounded_new.h"
 #include "fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,0 +1,101 @@
+#include "io/gltf_accessor.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace pleat {
+namespace {
+
+[[noreturn]] void fail_format(const std::string& path, const std::string& what) {
+  fail(PLEAT_ERROR_FORMAT, "'" + path + "': " + what);
+}
+
+// One component at `p` of glTF component type `type` as a double.
+double component(const unsigned char* p, int type, bool normalized) {
+  const auto load = [p](auto v) {
+    std::memcpy(&v, p, sizeof(v));  // glTF is little endian, as the hosts pleat runs on
+    return v;
+  };
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load(float{});
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const double v = load(int8_t{});
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load(uint8_t{}) / (normalized ? 255.0 : 1.0);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      const double v = load(int16_t{});
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load(uint16_t{}) / (normalized ? 65535.0 : 1.0);
+    default: return load(uint32_t{});  // UNSIGNED_INT, the one type left
+  }
+}
+
+}  // namespace
+
+size_t gltf_index(int index, size_t size, const std::string& path, const std::string& field,
+                  const std::string& what) {
+  if (index < 0 || static_cast<size_t>(index) >= size)
+    fail_format(path, field + " names " + what + " " + std::to_string(index) + " of " + std::to_string(size));
+  return static_cast<size_t>(index);
+}
+
+std::vector<double> read_gltf_accessor(const tinygltf::Model& model, int index, int components,
+                                       std::initializer_list<int> types, const std::string& path,
+                                       const std::string& field) {
+  const tinygltf::Accessor& a =
+      model.accessors[gltf_index(index, model.accessors.size(), path, field, "accessor")];
+  const std::string name = field + " (accessor " + std::to_string(index) + ")";
+  if (a.sparse.isSparse) fail_format(path, name + " is sparse, which pleat does not read");
+  if (std::find(types.begin(), types.end(), a.componentType) == types.end())
+    fail_format(path, name + " has component type " + std::to_string(a.componentType) +
+                          (types.size() == 1 && *types.begin() == TINYGLTF_COMPONENT_TYPE_FLOAT
+                               ? ", not float"
+                               : ", which this field does not take"));
+  const int have = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+  if (have != components)
+    fail_format(path,
+                name + " has " + std::to_string(have) + " components, not " + std::to_string(components));
+  const uint64_t count = a.count;
+  if (count > (uint64_t{1} << 31))
+    fail_format(path, name + " count " + std::to_string(count) + " is too large");
+  if (a.bufferView < 0) {
+    // Zeros, as glTF defines (sparse accessors override them; pleat reads
+    // none). Bounded so that a few bytes of JSON cannot ask for gigabytes.
+    if (count > (uint64_t{1} << 20))
+      fail_format(path, name + " has no buffer view and a count of " + std::to_string(count));
+    return std::vector<double>(count * static_cast<uint64_t>(components), 0.0);
+  }
+  const tinygltf::BufferView& view =
+      model.bufferViews[gltf_index(a.bufferView, model.bufferViews.size(), path, name, "buffer view")];
+  const std::vector<unsigned char>& data =
+      model.buffers[gltf_index(view.buffer, model.buffers.size(), path, name + ": its view", "buffer")].data;
+  const auto size =
+      static_cast<uint64_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType)));
+  const uint64_t element = size * static_cast<uint64_t>(components);
+  const uint64_t stride = view.byteStride == 0 ? element : static_cast<uint64_t>(view.byteStride);
+  if (stride < element || stride > (uint64_t{1} << 32))
+    fail_format(path, name + ": byte stride " + std::to_string(stride) + " for elements of " +
+                          std::to_string(element) + " bytes");
+  if (count == 0) return {};
+  // Counts are below 2^31 and strides below 2^32 once checked, and offsets
+  // are compared by subtraction, so nothing below wraps; the values are
+  // allocated only once the file is known to hold them.
+  const uint64_t span = (count - 1) * stride + element;
+  if (a.byteOffset > view.byteLength || span > view.byteLength - a.byteOffset ||
+      view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
+    fail_format(path, name + " reaches past the end of its buffer view or buffer");
+  std::vector<double> out(count * static_cast<uint64_t>(components));
+  const unsigned char* first = data.data() + view.byteOffset + a.byteOffset;
+  for (uint64_t i = 0; i < count; ++i)
+    for (int c = 0; c < components; ++c)
+      out[i * static_cast<uint64_t>(components) + static_cast<uint64_t>(c)] =
+          component(first + i * stride + static_cast<uint64_t>(c) * size, a.componentType, a.normalized);
+  return out;
+}
+
+}  // namespace pleat
