@@ -11,18 +11,13 @@
 
 #include "core/error.h"
 #include "io/atomic_file.h"
-#include "io/gltf_accessor.h"
-#include "io/text_file.h"
+#include "io/gltf_read.h"
 
 namespace pleat {
 namespace {
 
 constexpr int kArrayBuffer = 34962;
 constexpr int kElementArrayBuffer = 34963;
-
-[[noreturn]] void fail_format(const std::string& path, const std::string& what) {
-  fail(PLEAT_ERROR_FORMAT, "'" + path + "': " + what);
-}
 
 // ---- Writing ---------------------------------------------------------------
 
@@ -79,7 +74,7 @@ std::string frame_name(size_t f) {
 
 // ---- Reading ---------------------------------------------------------------
 
-// The floats of accessor `index` (count * components); see io/gltf_accessor.h.
+// The floats of accessor `index` (count * components); see io/gltf_read.h.
 std::vector<float> accessor_floats(const tinygltf::Model& model, int index, int components,
                                    const std::string& path, const std::string& field) {
   const std::vector<double> values =
@@ -89,8 +84,7 @@ std::vector<float> accessor_floats(const tinygltf::Model& model, int index, int 
 
 void require_finite(const std::vector<float>& values, const std::string& path, const std::string& field) {
   for (size_t i = 0; i < values.size(); ++i)
-    if (!std::isfinite(values[i]))
-      fail_format(path, field + " value " + std::to_string(i) + " is not finite");
+    if (!std::isfinite(values[i])) fail_gltf(path, field + " value " + std::to_string(i) + " is not finite");
 }
 
 }  // namespace
@@ -175,40 +169,26 @@ void write_gltf_cache(const std::string& path, const float* frames, size_t frame
 }
 
 GltfMorphAnimation::GltfMorphAnimation(const std::string& path) : path_(path) {
-  const std::string bytes = read_text_file(path);
-  if (bytes.size() > std::numeric_limits<unsigned int>::max())
-    fail_format(path, "larger than the 4 GiB a glTF file can hold");
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string error, warning;
-  const std::string base_dir = std::filesystem::path(path).parent_path().string();
-  const bool binary = bytes.compare(0, 4, "glTF") == 0;
-  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning,
-                                                       reinterpret_cast<const unsigned char*>(bytes.data()),
-                                                       static_cast<unsigned int>(bytes.size()), base_dir)
-                         : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(),
-                                                      static_cast<unsigned int>(bytes.size()), base_dir);
-  if (!ok) fail_format(path, "not a readable glTF file: " + (error.empty() ? warning : error));
+  const tinygltf::Model model = read_gltf_model(path);
 
   size_t node_index = 0;
   while (node_index < model.nodes.size() && model.nodes[node_index].mesh < 0) ++node_index;
-  if (node_index == model.nodes.size()) fail_format(path, "no node has a mesh");
+  if (node_index == model.nodes.size()) fail_gltf(path, "no node has a mesh");
   const int mesh_index = model.nodes[node_index].mesh;
   if (static_cast<size_t>(mesh_index) >= model.meshes.size())
-    fail_format(path, "nodes[" + std::to_string(node_index) + "].mesh names mesh " +
-                          std::to_string(mesh_index) + " of " + std::to_string(model.meshes.size()));
+    fail_gltf(path, "nodes[" + std::to_string(node_index) + "].mesh names mesh " +
+                        std::to_string(mesh_index) + " of " + std::to_string(model.meshes.size()));
   const tinygltf::Mesh& mesh = model.meshes[static_cast<size_t>(mesh_index)];
   const std::string mesh_field = "meshes[" + std::to_string(mesh_index) + "]";
-  if (mesh.primitives.empty()) fail_format(path, mesh_field + " has no primitives");
+  if (mesh.primitives.empty()) fail_gltf(path, mesh_field + " has no primitives");
   const tinygltf::Primitive& primitive = mesh.primitives[0];
   if (primitive.mode != TINYGLTF_MODE_TRIANGLES && primitive.mode != -1)
-    fail_format(path,
-                mesh_field + ".primitives[0] has mode " + std::to_string(primitive.mode) + ", not triangles");
+    fail_gltf(path,
+              mesh_field + ".primitives[0] has mode " + std::to_string(primitive.mode) + ", not triangles");
   const auto position = primitive.attributes.find("POSITION");
-  if (position == primitive.attributes.end())
-    fail_format(path, mesh_field + ".primitives[0] has no POSITION");
+  if (position == primitive.attributes.end()) fail_gltf(path, mesh_field + ".primitives[0] has no POSITION");
   base_ = accessor_floats(model, position->second, 3, path, mesh_field + " POSITION");
-  if (base_.empty()) fail_format(path, mesh_field + " POSITION holds no vertices");
+  if (base_.empty()) fail_gltf(path, mesh_field + " POSITION holds no vertices");
   require_finite(base_, path, mesh_field + " POSITION");
   for (size_t t = 0; t < primitive.targets.size(); ++t) {
     const std::string field = mesh_field + " target " + std::to_string(t) + " POSITION";
@@ -217,8 +197,8 @@ GltfMorphAnimation::GltfMorphAnimation(const std::string& path) : path_(path) {
                            ? std::vector<float>(base_.size(), 0.0f)
                            : accessor_floats(model, target->second, 3, path, field));
     if (targets_.back().size() != base_.size())
-      fail_format(path, field + " has " + std::to_string(targets_.back().size() / 3) +
-                            " vertices, POSITION " + std::to_string(base_.size() / 3));
+      fail_gltf(path, field + " has " + std::to_string(targets_.back().size() / 3) + " vertices, POSITION " +
+                          std::to_string(base_.size() / 3));
     require_finite(targets_.back(), path, field);
   }
 
@@ -230,7 +210,7 @@ GltfMorphAnimation::GltfMorphAnimation(const std::string& path) : path_(path) {
       if (channel.target_node != static_cast<int>(node_index) || channel.target_path != "weights") continue;
       channel_field = "animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "]";
       if (channel.sampler < 0 || static_cast<size_t>(channel.sampler) >= model.animations[a].samplers.size())
-        fail_format(path, channel_field + " names sampler " + std::to_string(channel.sampler));
+        fail_gltf(path, channel_field + " names sampler " + std::to_string(channel.sampler));
       sampler = &model.animations[a].samplers[static_cast<size_t>(channel.sampler)];
     }
   const size_t target_count = targets_.size();
@@ -243,20 +223,20 @@ GltfMorphAnimation::GltfMorphAnimation(const std::string& path) : path_(path) {
     return;
   }
   const std::vector<float> times = accessor_floats(model, sampler->input, 1, path, channel_field + " input");
-  if (times.empty()) fail_format(path, channel_field + " has no keys");
+  if (times.empty()) fail_gltf(path, channel_field + " has no keys");
   require_finite(times, path, channel_field + " input");
   for (size_t k = 1; k < times.size(); ++k)
     if (!(times[k] > times[k - 1]))
-      fail_format(path, channel_field + " key " + std::to_string(k) + " is not later than the key before it");
+      fail_gltf(path, channel_field + " key " + std::to_string(k) + " is not later than the key before it");
   times_.assign(times.begin(), times.end());
   const std::vector<float> output =
       accessor_floats(model, sampler->output, 1, path, channel_field + " output");
   const bool cubic = sampler->interpolation == "CUBICSPLINE";
   const size_t per_key = target_count * (cubic ? 3 : 1);
   if (output.size() != times.size() * per_key)
-    fail_format(path, channel_field + " output holds " + std::to_string(output.size()) + " weights, " +
-                          std::to_string(times.size()) + " keys of " + std::to_string(target_count) +
-                          " targets need " + std::to_string(times.size() * per_key));
+    fail_gltf(path, channel_field + " output holds " + std::to_string(output.size()) + " weights, " +
+                        std::to_string(times.size()) + " keys of " + std::to_string(target_count) +
+                        " targets need " + std::to_string(times.size() * per_key));
   require_finite(output, path, channel_field + " output");
   weights_.resize(times.size() * target_count);
   for (size_t k = 0; k < times.size(); ++k)
@@ -280,8 +260,7 @@ void GltfMorphAnimation::frame(int64_t f, float* dst) const {
   }
   for (size_t i = 0; i < base_.size(); ++i)
     if (!std::isfinite(dst[i]))
-      fail_format(path_,
-                  "frame " + std::to_string(f) + " vertex " + std::to_string(i / 3) + " is not finite");
+      fail_gltf(path_, "frame " + std::to_string(f) + " vertex " + std::to_string(i / 3) + " is not finite");
 }
 
 }  // namespace pleat

@@ -9,14 +9,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <map>
 #include <set>
 #include <vector>
 
 #include "core/error.h"
-#include "io/gltf_accessor.h"
-#include "io/text_file.h"
+#include "io/gltf_read.h"
 
 namespace pleat {
 namespace {
@@ -26,36 +24,6 @@ namespace {
 constexpr size_t kMaxNodeDepth = 1000;
 // aiString holds at most 1,023 bytes and silently drops a longer name.
 constexpr size_t kMaxNameBytes = 1000;
-
-[[noreturn]] void fail_format(const std::string& path, const std::string& what) {
-  fail(PLEAT_ERROR_FORMAT, "'" + path + "': " + what);
-}
-
-// Images are not needed for geometry and are not decoded (stb_image is one
-// more parser a crafted file could reach).
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
-  return true;
-}
-
-tinygltf::Model load_model(const std::string& path) {
-  const std::string bytes = read_text_file(path);
-  if (bytes.size() > std::numeric_limits<unsigned int>::max())
-    fail_format(path, "larger than the 4 GiB a glTF file can hold");
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(skip_image, nullptr);
-  tinygltf::Model model;
-  std::string error, warning;
-  const std::string base_dir = std::filesystem::path(path).parent_path().string();
-  const bool binary = bytes.compare(0, 4, "glTF") == 0;
-  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning,
-                                                       reinterpret_cast<const unsigned char*>(bytes.data()),
-                                                       static_cast<unsigned int>(bytes.size()), base_dir)
-                         : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(),
-                                                      static_cast<unsigned int>(bytes.size()), base_dir);
-  if (!ok) fail_format(path, "not a readable glTF file: " + (error.empty() ? warning : error));
-  return model;
-}
 
 aiMatrix4x4 column_major(const double* m) {
   aiMatrix4x4 out;
@@ -67,8 +35,8 @@ aiMatrix4x4 column_major(const double* m) {
 aiMatrix4x4 local_transform(const tinygltf::Node& node, const std::string& path, const std::string& field) {
   const auto sized = [&](const std::vector<double>& v, size_t n, const char* what) {
     if (!v.empty() && v.size() != n)
-      fail_format(path, field + "." + what + " has " + std::to_string(v.size()) + " numbers, not " +
-                            std::to_string(n));
+      fail_gltf(path, field + "." + what + " has " + std::to_string(v.size()) + " numbers, not " +
+                          std::to_string(n));
     return !v.empty();
   };
   if (sized(node.matrix, 16, "matrix")) return column_major(node.matrix.data());
@@ -158,10 +126,10 @@ class SceneBuilder {
       stack.pop_back();
       const size_t n = gltf_index(visit.index, model_.nodes.size(), path_, visit.field, "node");
       if (node_of_[n])
-        fail_format(path_, visit.field + " reaches " + node_field(n) +
-                               " a second time (glTF nodes form trees: one parent each)");
+        fail_gltf(path_, visit.field + " reaches " + node_field(n) +
+                             " a second time (glTF nodes form trees: one parent each)");
       if (visit.depth > kMaxNodeDepth)
-        fail_format(path_, node_field(n) + " lies deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+        fail_gltf(path_, node_field(n) + " lies deeper than " + std::to_string(kMaxNodeDepth) + " levels");
       const tinygltf::Node& node = model_.nodes[n];
       pending[n] = std::make_unique<aiNode>(unique_name(node.name, n));
       node_of_[n] = pending[n].get();
@@ -221,9 +189,9 @@ class SceneBuilder {
     const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
     if (mode < TINYGLTF_MODE_TRIANGLES) return nullptr;
     if (mode > TINYGLTF_MODE_TRIANGLE_FAN)
-      fail_format(path_, field + ".mode " + std::to_string(mode) + " is not a glTF primitive mode");
+      fail_gltf(path_, field + ".mode " + std::to_string(mode) + " is not a glTF primitive mode");
     const auto position = primitive.attributes.find("POSITION");
-    if (position == primitive.attributes.end()) fail_format(path_, field + " has no POSITION");
+    if (position == primitive.attributes.end()) fail_gltf(path_, field + " has no POSITION");
     const std::vector<double> xyz = read_gltf_accessor(
         model_, position->second, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, path_, field + " POSITION");
     const size_t vertex_count = xyz.size() / 3;
@@ -236,9 +204,9 @@ class SceneBuilder {
                              path_, field + " indices");
       for (size_t i = 0; i < read.size(); ++i) {
         if (read[i] >= static_cast<double>(vertex_count))
-          fail_format(path_, field + " index " + std::to_string(i) + " is " +
-                                 std::to_string(static_cast<uint64_t>(read[i])) + ", of " +
-                                 std::to_string(vertex_count) + " vertices");
+          fail_gltf(path_, field + " index " + std::to_string(i) + " is " +
+                               std::to_string(static_cast<uint64_t>(read[i])) + ", of " +
+                               std::to_string(vertex_count) + " vertices");
         index.push_back(static_cast<unsigned>(read[i]));
       }
     } else {
@@ -285,12 +253,12 @@ class SceneBuilder {
     const tinygltf::Skin& skin = model_.skins[s];
     const std::string skin_field = "skins[" + std::to_string(s) + "]";
     const size_t joint_count = skin.joints.size();
-    if (joint_count == 0) fail_format(path_, skin_field + " has no joints");
+    if (joint_count == 0) fail_gltf(path_, skin_field + " has no joints");
     std::vector<aiNode*> joint_node(joint_count);
     for (size_t k = 0; k < joint_count; ++k) {
       const std::string field = skin_field + ".joints[" + std::to_string(k) + "]";
       joint_node[k] = node_of_[gltf_index(skin.joints[k], model_.nodes.size(), path_, field, "node")];
-      if (!joint_node[k]) fail_format(path_, field + " names a node that is not in the scene");
+      if (!joint_node[k]) fail_gltf(path_, field + " names a node that is not in the scene");
     }
     std::vector<double> inverse_bind(16 * joint_count, 0.0);
     for (size_t k = 0; k < joint_count; ++k)
@@ -300,8 +268,8 @@ class SceneBuilder {
           read_gltf_accessor(model_, skin.inverseBindMatrices, 16, {TINYGLTF_COMPONENT_TYPE_FLOAT}, path_,
                              skin_field + ".inverseBindMatrices");
       if (read.size() < inverse_bind.size())
-        fail_format(path_, skin_field + ".inverseBindMatrices holds " + std::to_string(read.size() / 16) +
-                               " matrices for " + std::to_string(joint_count) + " joints");
+        fail_gltf(path_, skin_field + ".inverseBindMatrices holds " + std::to_string(read.size() / 16) +
+                             " matrices for " + std::to_string(joint_count) + " joints");
       std::copy(read.begin(), read.begin() + static_cast<std::ptrdiff_t>(inverse_bind.size()),
                 inverse_bind.begin());
     }
@@ -322,15 +290,15 @@ class SceneBuilder {
                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
                              path_, primitive_field(m, p) + " WEIGHTS_" + std::to_string(set));
       if (j.size() != 4 * size_t{mesh->mNumVertices} || w.size() != j.size())
-        fail_format(path_, field + " and its weights hold " + std::to_string(j.size() / 4) + " and " +
-                               std::to_string(w.size() / 4) + " vertices, POSITION " +
-                               std::to_string(mesh->mNumVertices));
+        fail_gltf(path_, field + " and its weights hold " + std::to_string(j.size() / 4) + " and " +
+                             std::to_string(w.size() / 4) + " vertices, POSITION " +
+                             std::to_string(mesh->mNumVertices));
       for (size_t i = 0; i < j.size(); ++i) {
         if (w[i] == 0.0) continue;
         if (j[i] >= static_cast<double>(joint_count))
-          fail_format(path_, field + " vertex " + std::to_string(i / 4) + " names joint " +
-                                 std::to_string(static_cast<int64_t>(j[i])) + " of " +
-                                 std::to_string(joint_count));
+          fail_gltf(path_, field + " vertex " + std::to_string(i / 4) + " names joint " +
+                               std::to_string(static_cast<int64_t>(j[i])) + " of " +
+                               std::to_string(joint_count));
         weights[static_cast<size_t>(j[i])].emplace_back(static_cast<unsigned>(i / 4),
                                                         static_cast<ai_real>(w[i]));
       }
@@ -379,8 +347,8 @@ class SceneBuilder {
           model_, sampler.input, 1, {TINYGLTF_COMPONENT_TYPE_FLOAT}, path_, field + " input");
       for (size_t k = 0; k < times.size(); ++k)
         if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
-          fail_format(path_,
-                      field + " key " + std::to_string(k) + " is not a time later than the key before it");
+          fail_gltf(path_,
+                    field + " key " + std::to_string(k) + " is not a time later than the key before it");
       const int width = rotation ? 4 : 3;
       const std::vector<double> values = read_gltf_accessor(
           model_, sampler.output, width,
@@ -392,9 +360,9 @@ class SceneBuilder {
           path_, field + " output");
       const bool cubic = sampler.interpolation == "CUBICSPLINE";
       if (values.size() != times.size() * static_cast<size_t>(width) * (cubic ? 3 : 1))
-        fail_format(path_, field + " output holds " +
-                               std::to_string(values.size() / static_cast<size_t>(width)) + " values for " +
-                               std::to_string(times.size()) + " keys");
+        fail_gltf(path_, field + " output holds " +
+                             std::to_string(values.size() / static_cast<size_t>(width)) + " values for " +
+                             std::to_string(times.size()) + " keys");
       if (times.empty()) continue;
       anim->mDuration = std::max(anim->mDuration, times.back());
       std::unique_ptr<aiNodeAnim>& ch = channels[n];
@@ -449,7 +417,7 @@ bool is_gltf_file(const std::string& path) {
 }
 
 std::unique_ptr<aiScene> read_gltf_scene(const std::string& path) {
-  const tinygltf::Model model = load_model(path);
+  const tinygltf::Model model = read_gltf_model(path);
   return SceneBuilder(path, model).build();
 }
 

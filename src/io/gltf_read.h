@@ -1,7 +1,9 @@
 #pragma once
-// Reading a glTF accessor's values, every index, count, offset and stride
-// checked against the file before a byte is read (tinygltf parses the JSON
-// and the buffers; it does not check how accessors reach into them).
+// Reading glTF files, shared by the cache reader (io/gltf_cache) and the scene
+// reader (io/gltf_scene): the model as tinygltf parses it, and its accessors'
+// values with every index, count, offset and stride checked against the file
+// before a byte is read (tinygltf does not check how accessors reach into
+// the buffers).
 #include <tiny_gltf.h>
 
 #include <initializer_list>
@@ -9,6 +11,16 @@
 #include <vector>
 
 namespace pleat {
+
+// PLEAT_ERROR_FORMAT: "'<path>': <what>".
+[[noreturn]] void fail_gltf(const std::string& path, const std::string& what);
+
+// The file parsed by tinygltf (text or binary, by its first bytes; buffers
+// from data URIs, the binary chunk or files beside it). Images are not
+// decoded: geometry needs none, and stb_image would be one more parser a
+// crafted file could reach. Throws PLEAT_ERROR_IO (unreadable) or
+// PLEAT_ERROR_FORMAT (tinygltf's reason).
+tinygltf::Model read_gltf_model(const std::string& path);
 
 // The values of accessor `index` (count x `components`, row-major), read as
 // doubles: floats as they are, integers as their values or, where the

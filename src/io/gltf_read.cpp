@@ -1,16 +1,20 @@
-#include "io/gltf_accessor.h"
+#include "io/gltf_read.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <limits>
 
 #include "core/error.h"
+#include "io/text_file.h"
 
 namespace pleat {
 namespace {
 
-[[noreturn]] void fail_format(const std::string& path, const std::string& what) {
-  fail(PLEAT_ERROR_FORMAT, "'" + path + "': " + what);
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                void*) {
+  return true;
 }
 
 // One component at `p` of glTF component type `type` as a double.
@@ -37,10 +41,33 @@ double component(const unsigned char* p, int type, bool normalized) {
 
 }  // namespace
 
+void fail_gltf(const std::string& path, const std::string& what) {
+  fail(PLEAT_ERROR_FORMAT, "'" + path + "': " + what);
+}
+
+tinygltf::Model read_gltf_model(const std::string& path) {
+  const std::string bytes = read_text_file(path);
+  if (bytes.size() > std::numeric_limits<unsigned int>::max())
+    fail_gltf(path, "larger than the 4 GiB a glTF file can hold");
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(skip_image, nullptr);
+  tinygltf::Model model;
+  std::string error, warning;
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  const bool binary = bytes.compare(0, 4, "glTF") == 0;
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning,
+                                                       reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                       static_cast<unsigned int>(bytes.size()), base_dir)
+                         : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(),
+                                                      static_cast<unsigned int>(bytes.size()), base_dir);
+  if (!ok) fail_gltf(path, "not a readable glTF file: " + (error.empty() ? warning : error));
+  return model;
+}
+
 size_t gltf_index(int index, size_t size, const std::string& path, const std::string& field,
                   const std::string& what) {
   if (index < 0 || static_cast<size_t>(index) >= size)
-    fail_format(path, field + " names " + what + " " + std::to_string(index) + " of " + std::to_string(size));
+    fail_gltf(path, field + " names " + what + " " + std::to_string(index) + " of " + std::to_string(size));
   return static_cast<size_t>(index);
 }
 
@@ -50,24 +77,23 @@ std::vector<double> read_gltf_accessor(const tinygltf::Model& model, int index, 
   const tinygltf::Accessor& a =
       model.accessors[gltf_index(index, model.accessors.size(), path, field, "accessor")];
   const std::string name = field + " (accessor " + std::to_string(index) + ")";
-  if (a.sparse.isSparse) fail_format(path, name + " is sparse, which pleat does not read");
+  if (a.sparse.isSparse) fail_gltf(path, name + " is sparse, which pleat does not read");
   if (std::find(types.begin(), types.end(), a.componentType) == types.end())
-    fail_format(path, name + " has component type " + std::to_string(a.componentType) +
-                          (types.size() == 1 && *types.begin() == TINYGLTF_COMPONENT_TYPE_FLOAT
-                               ? ", not float"
-                               : ", which this field does not take"));
+    fail_gltf(path, name + " has component type " + std::to_string(a.componentType) +
+                        (types.size() == 1 && *types.begin() == TINYGLTF_COMPONENT_TYPE_FLOAT
+                             ? ", not float"
+                             : ", which this field does not take"));
   const int have = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
   if (have != components)
-    fail_format(path,
-                name + " has " + std::to_string(have) + " components, not " + std::to_string(components));
+    fail_gltf(path, name + " has " + std::to_string(have) + " components, not " + std::to_string(components));
   const uint64_t count = a.count;
   if (count > (uint64_t{1} << 31))
-    fail_format(path, name + " count " + std::to_string(count) + " is too large");
+    fail_gltf(path, name + " count " + std::to_string(count) + " is too large");
   if (a.bufferView < 0) {
     // Zeros, as glTF defines (sparse accessors override them; pleat reads
     // none). Bounded so that a few bytes of JSON cannot ask for gigabytes.
     if (count > (uint64_t{1} << 20))
-      fail_format(path, name + " has no buffer view and a count of " + std::to_string(count));
+      fail_gltf(path, name + " has no buffer view and a count of " + std::to_string(count));
     return std::vector<double>(count * static_cast<uint64_t>(components), 0.0);
   }
   const tinygltf::BufferView& view =
@@ -79,8 +105,8 @@ std::vector<double> read_gltf_accessor(const tinygltf::Model& model, int index, 
   const uint64_t element = size * static_cast<uint64_t>(components);
   const uint64_t stride = view.byteStride == 0 ? element : static_cast<uint64_t>(view.byteStride);
   if (stride < element || stride > (uint64_t{1} << 32))
-    fail_format(path, name + ": byte stride " + std::to_string(stride) + " for elements of " +
-                          std::to_string(element) + " bytes");
+    fail_gltf(path, name + ": byte stride " + std::to_string(stride) + " for elements of " +
+                        std::to_string(element) + " bytes");
   if (count == 0) return {};
   // Counts are below 2^31 and strides below 2^32 once checked, and offsets
   // are compared by subtraction, so nothing below wraps; the values are
@@ -88,7 +114,7 @@ std::vector<double> read_gltf_accessor(const tinygltf::Model& model, int index, 
   const uint64_t span = (count - 1) * stride + element;
   if (a.byteOffset > view.byteLength || span > view.byteLength - a.byteOffset ||
       view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
-    fail_format(path, name + " reaches past the end of its buffer view or buffer");
+    fail_gltf(path, name + " reaches past the end of its buffer view or buffer");
   std::vector<double> out(count * static_cast<uint64_t>(components));
   const unsigned char* first = data.data() + view.byteOffset + a.byteOffset;
   for (uint64_t i = 0; i < count; ++i)
