@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "garment/garment.h"
 #include "io/mesh_import.h"
+#include "support/expect_error.h"
 #include "support/test_support.h"
 
 using namespace pleat;
@@ -246,4 +247,27 @@ TEST(MeshImport, FbxModelCyclesAreRefused) {
     }
   }
   EXPECT_THROW(pleat::import_rig(found), Error);
+}
+
+// assimp adds a binary record's declared lengths to pointers before comparing
+// them: a property length near 2^64 wrapped, and its tokenizer aborted on an
+// assertion (found by fuzz_fbx). Records must lie within their parents and
+// their properties within themselves.
+TEST(MeshImport, FbxRecordsReachingOutsideThemselvesAreRefused) {
+  const std::string dir = pleat_test::temp_dir("import_fbx_records");
+  const auto patched = [&](const std::string& name, size_t field, uint32_t value) {
+    std::string bytes = linked_models_binary_fbx(false);
+    std::memcpy(&bytes[27 + field * 4], &value, 4);  // of the first record, "Objects"
+    std::ofstream(dir + "/" + name, std::ios::binary) << bytes;
+    return dir + "/" + name;
+  };
+  pleat_test::expect_error([&] { import_mesh(patched("properties.fbx", 2, 0xffffffffu)); },
+                           PLEAT_ERROR_FORMAT,
+                           "FBX record at byte 27 declares 4294967295 bytes of properties");
+  pleat_test::expect_error(
+      [&] { import_mesh(patched("end.fbx", 0, 1u << 20)); }, PLEAT_ERROR_FORMAT,
+      "FBX record at byte 27 ends at byte 1048576, not between its start and its parent's end");
+  const std::string found =
+      pleat_test::source_dir() + "/tests/fuzz/seeds/fbx/finding-property-length-wraps.fbx";
+  pleat_test::expect_error([&] { import_mesh(found); }, PLEAT_ERROR_FORMAT, "FBX record at byte ");
 }

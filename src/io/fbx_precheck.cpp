@@ -114,8 +114,8 @@ class AsciiReader {
 };
 
 // Binary FBX: each record holds its end offset, its property count and
-// length, its name, its properties, then nested records up to its end.
-// Walked with an explicit stack.
+// length, its name, its properties, then nested records up to its end
+// (closed by a null record). Walked with an explicit stack.
 class BinaryReader {
  public:
   BinaryReader(const std::string& path, std::string_view bytes) : path_(path), bytes_(bytes) {}
@@ -139,11 +139,20 @@ class BinaryReader {
         const uint64_t end = u64(s.at, word_), properties = u64(s.at + 2 * word_, word_);
         const size_t name_length = static_cast<unsigned char>(bytes_[s.at + 3 * word_]);
         if (end == 0) break;  // the null record that closes a list
-        if (end <= s.at || end > s.end || s.at + header + name_length > end) return std::move(outline_);
+        if (end <= s.at || end > s.end)
+          refuse(s.at, "ends at byte " + std::to_string(end) +
+                           ", not between its start and its parent's end (byte " + std::to_string(s.end) +
+                           ")");
+        if (s.at + header + name_length > end) refuse(s.at, "has a name that runs past its end");
         const std::string_view name = bytes_.substr(s.at + header, name_length);
         const size_t first_property = s.at + header + name_length;
+        // assimp adds this length to a pointer before comparing, so a length
+        // near 2^64 wraps and its tokenizer aborts (found by fuzz_fbx).
+        if (properties > end - first_property)
+          refuse(s.at, "declares " + std::to_string(properties) + " bytes of properties; it holds " +
+                           std::to_string(end - first_property));
         const uint64_t nested = first_property + properties;
-        if (s.depth == 1) read_record(s.parent, name, first_property, std::min<uint64_t>(nested, end));
+        if (s.depth == 1) read_record(s.parent, name, first_property, nested);
         if (nested < end) {
           if (s.depth + 1 > kMaxDepth) refuse_depth(path_);
           stack.push_back({static_cast<size_t>(nested), static_cast<size_t>(end), s.depth + 1, name});
@@ -155,6 +164,12 @@ class BinaryReader {
   }
 
  private:
+  // Records must lie within their parents and their properties within
+  // themselves: assimp 5.2 trusts both.
+  [[noreturn]] void refuse(size_t at, const std::string& what) const {
+    fail(PLEAT_ERROR_FORMAT, path_ + ": FBX record at byte " + std::to_string(at) + " " + what);
+  }
+
   uint64_t u64(size_t at, size_t width) const {
     uint64_t v = 0;
     std::memcpy(&v, bytes_.data() + at, width);  // little endian, as FBX
