@@ -10,7 +10,8 @@
 #   scripts/sanitize.sh --build-only     builds everything, runs nothing (scripts/fuzz.sh)
 #   scripts/sanitize.sh --thread test_a  ThreadSanitizer instead, in build-tsan/ (the
 #                                        threaded tests: test_capi_model, test_runtime_golden)
-# CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection test_capi_stress fuzz_targets`
+# CI runs `scripts/sanitize.sh test_model_fuzz test_capi_fault_injection test_capi_stress test_mesh_caches
+# test_gltf_scene test_capi_body_collision fuzz_targets`
 # and `scripts/sanitize.sh --thread test_capi_model test_runtime_golden`.
 # The trainer is left out: libtorch itself is not built with the sanitizers.
 set -euo pipefail
