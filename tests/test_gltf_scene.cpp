@@ -3,6 +3,7 @@
 // damaged files that assimp 5.2.5's own importer overran or dereferenced
 // (found by the fuzz targets) refused by name. Skins and animations are
 // checked through the rig importer (test_rig_import).
+#include <assimp/scene.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "body/rig_import.h"
+#include "io/gltf_scene.h"
 #include "io/mesh_import.h"
 #include "support/expect_error.h"
 #include "support/test_support.h"
@@ -80,6 +82,27 @@ TEST_F(GltfScene, TransformsModesAndIndicesAsWorkedOutByHand) {
   ASSERT_EQ(mesh.triangles.rows(), 4);
   for (int t = 0; t < 4; ++t)
     for (int c = 0; c < 3; ++c) EXPECT_EQ(mesh.triangles(t, c), triangles[t][c]) << t;
+}
+
+// The importers find bones and channels by node name, so every node gets a
+// name of its own: unnamed ones their index, a repeated name (or the name of
+// the scene's own root) the index after it.
+TEST_F(GltfScene, EveryNodeIsNamedOnce) {
+  Json scene = quad_scene();
+  scene["nodes"][0]["name"] = "strip";
+  scene["nodes"][2].erase("name");
+  scene["nodes"].push_back({{"name", "(glTF scene)"}});
+  scene["scenes"][0]["nodes"].push_back(3);
+  const std::unique_ptr<aiScene> read = read_gltf_scene(save(scene));
+  const aiNode* root = read->mRootNode;
+  EXPECT_STREQ(root->mName.C_Str(), "(glTF scene)");
+  ASSERT_EQ(root->mNumChildren, 3u);
+  EXPECT_STREQ(root->mChildren[0]->mName.C_Str(), "strip");
+  ASSERT_EQ(root->mChildren[0]->mNumChildren, 1u);
+  EXPECT_STREQ(root->mChildren[0]->mChildren[0]->mName.C_Str(), "strip#1");
+  EXPECT_STREQ(root->mChildren[1]->mName.C_Str(), "node2");
+  EXPECT_STREQ(root->mChildren[2]->mName.C_Str(), "(glTF scene)#3");
+  EXPECT_EQ(root->mChildren[0]->mChildren[0]->mParent, root->mChildren[0]);
 }
 
 TEST_F(GltfScene, DamagedScenesAreRefusedNamingTheField) {

@@ -22,6 +22,8 @@ namespace {
 // Real rigs nest a few dozen nodes deep; the importers walk the tree by
 // recursion, so a crafted chain must not reach them.
 constexpr size_t kMaxNodeDepth = 1000;
+// The identity node above the file's roots.
+constexpr const char* kRootName = "(glTF scene)";
 // aiString holds at most 1,023 bytes and silently drops a longer name.
 constexpr size_t kMaxNameBytes = 1000;
 
@@ -71,7 +73,8 @@ class SceneBuilder {
   std::unique_ptr<aiScene> build() {
     auto scene = std::make_unique<aiScene>();
     scene_ = scene.get();
-    scene->mRootNode = new aiNode("scene");
+    scene->mRootNode = new aiNode(kRootName);
+    names_.insert(kRootName);  // a node of the file named so is renamed
     build_nodes(roots());
     for (size_t a = 0; a < model_.animations.size(); ++a) add_animation(a);
     scene->mNumMeshes = static_cast<unsigned>(meshes_.size());

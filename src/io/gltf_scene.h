@@ -8,7 +8,7 @@
 //
 // What is read, as assimp's own importer maps it:
 //  - the default scene's node tree (matrix or translation/rotation/scale);
-//    each root hangs under one identity node, the aiScene's root;
+//    each root hangs under one identity node named "(glTF scene)";
 //  - each primitive of a node's mesh as one aiMesh: triangles, strips and
 //    fans as triangles (points and lines skipped), positions only;
 //  - a node's skin: one bone per joint, named after its node, with the
