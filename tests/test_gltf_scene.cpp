@@ -105,6 +105,26 @@ TEST_F(GltfScene, EveryNodeIsNamedOnce) {
   EXPECT_EQ(root->mChildren[0]->mChildren[0]->mParent, root->mChildren[0]);
 }
 
+// Two nodes showing one mesh share its aiMesh (as assimp's importer builds
+// them); the garment gets both instances, each under its own transform.
+TEST_F(GltfScene, InstancesShareTheirMesh) {
+  Json scene = quad_scene();
+  scene["nodes"].push_back({{"name", "fan2"}, {"mesh", 1}, {"translation", {0, 5, 0}}});
+  scene["scenes"][0]["nodes"].push_back(3);
+  const std::string path = save(scene);
+  const std::unique_ptr<aiScene> read = read_gltf_scene(path);
+  EXPECT_EQ(read->mNumMeshes, 2u);  // the strip and the fan, once each
+  const aiNode* fan = read->mRootNode->mChildren[1];
+  const aiNode* fan2 = read->mRootNode->mChildren[2];
+  ASSERT_EQ(fan->mNumMeshes, 1u);
+  ASSERT_EQ(fan2->mNumMeshes, 1u);
+  EXPECT_EQ(fan->mMeshes[0], fan2->mMeshes[0]);
+  const ImportedMesh mesh = import_mesh(path);
+  ASSERT_EQ(mesh.vertices.rows(), 12);
+  EXPECT_NEAR(mesh.vertices(11, 0), 1.0, 1e-6);  // the second fan's last corner: (1, 1) + (0, 5)
+  EXPECT_NEAR(mesh.vertices(11, 1), 6.0, 1e-6);
+}
+
 TEST_F(GltfScene, DamagedScenesAreRefusedNamingTheField) {
   const auto broken = [&](const std::function<void(Json*)>& damage, const std::string& part) {
     Json scene = quad_scene();

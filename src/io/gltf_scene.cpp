@@ -168,8 +168,11 @@ class SceneBuilder {
     if (node.mesh < 0) return;
     const std::string field = node_field(n);
     const size_t m = gltf_index(node.mesh, model_.meshes.size(), path_, field + ".mesh", "mesh");
-    std::vector<unsigned> mine;
-    for (size_t p = 0; p < model_.meshes[m].primitives.size(); ++p) {
+    // Nodes that show one mesh with one skin share its aiMeshes, as assimp's
+    // importer does (a few bytes of JSON must not copy a large mesh per node).
+    const auto [shared, first] = instances_.insert({{m, node.skin}, {}});
+    std::vector<unsigned>& mine = shared->second;
+    for (size_t p = 0; first && p < model_.meshes[m].primitives.size(); ++p) {
       aiMesh* mesh = primitive_mesh(m, p);
       if (!mesh) continue;
       meshes_.push_back(mesh);
@@ -404,6 +407,7 @@ class SceneBuilder {
   aiScene* scene_ = nullptr;
   std::vector<aiNode*> node_of_;  // by glTF node; null where not in the scene
   std::set<std::string> names_;
+  std::map<std::pair<size_t, int>, std::vector<unsigned>> instances_;  // (mesh, skin) -> its aiMeshes
   std::vector<aiMesh*> meshes_;
   std::vector<aiAnimation*> animations_;
 };
