@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include "core/error.h"
@@ -11,6 +12,28 @@
 
 namespace pleat {
 namespace {
+
+// Buffers in files beside the glTF. tinygltf's own reader sizes its buffer
+// from a seek to the end, which for a directory on ext4 reports 2^63 - 1
+// bytes (found by fuzz_gltf: a buffer URI naming the folder); only regular
+// files are read here, by their size.
+bool read_buffer_file(std::vector<unsigned char>* out, std::string* error, const std::string& path, void*) {
+  std::error_code code;
+  const bool regular = std::filesystem::is_regular_file(path, code);
+  const std::uintmax_t size = regular ? std::filesystem::file_size(path, code) : 0;
+  std::ifstream in(path, std::ios::binary);
+  if (!regular || code || !in) {
+    if (error) *error += "buffer file '" + path + "' is not a readable file\n";
+    return false;
+  }
+  out->resize(static_cast<size_t>(size));
+  in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size)) {
+    if (error) *error += "buffer file '" + path + "' could not be read whole\n";
+    return false;
+  }
+  return true;
+}
 
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
                 void*) {
@@ -51,6 +74,8 @@ tinygltf::Model read_gltf_model(const std::string& path) {
     fail_gltf(path, "larger than the 4 GiB a glTF file can hold");
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
+  loader.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_buffer_file,
+                         &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string error, warning;
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
