@@ -193,4 +193,14 @@ TEST_F(GltfScene, BinaryGltfUnderAnotherExtensionIsReadByPleat) {
   EXPECT_EQ(a.triangles, b.triangles);
 }
 
+// assimp's glTF loaders are removed from the importer pleat runs, so a text
+// glTF under an extension no importer claims (and without a magic to
+// recognise) is refused rather than read by assimp's guess of the format.
+// With the loaders left in, assimp reads this file.
+TEST_F(GltfScene, TextGltfUnderAnotherExtensionNeverReachesAssimp) {
+  const std::string path = save(quad_scene(), "quad.garment");
+  pleat_test::expect_error([&] { import_mesh(path); }, PLEAT_ERROR_FORMAT,
+                           "quad.garment: cannot read the file");
+}
+
 }  // namespace
