@@ -70,8 +70,8 @@ Dataset::Dataset(const std::vector<std::string>& dirs) {
                                    std::to_string(s.body.vertex_count()));
     s.body_normals = torch::empty_like(s.body_positions);
     for (int64_t f = 0; f < frames; ++f)
-      vertex_normals(s.body_positions[f].data_ptr<float>(), s.body.vertex_count(), s.body.rest.triangles,
-                     s.body_normals[f].data_ptr<float>());
+      pleat::vertex_normals(s.body_positions[f].data_ptr<float>(), s.body.vertex_count(),
+                            s.body.rest.triangles, s.body_normals[f].data_ptr<float>());
     s.rotations = std::move(data.rotations);
     s.root_positions = std::move(data.root_positions);
     sequences_.push_back(std::move(s));
