@@ -5,10 +5,7 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <vector>
@@ -413,15 +410,6 @@ class SceneBuilder {
 };
 
 }  // namespace
-
-bool is_gltf_file(const std::string& path) {
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".gltf" || extension == ".glb") return true;
-  std::ifstream in(path, std::ios::binary);
-  char magic[4] = {};
-  return in.read(magic, 4) && std::string(magic, 4) == "glTF";
-}
 
 std::unique_ptr<aiScene> read_gltf_scene(const std::string& path) {
   const tinygltf::Model model = read_gltf_model(path);

@@ -26,10 +26,6 @@ struct aiScene;
 
 namespace pleat {
 
-// True for the extensions .gltf and .glb (any case) and for files that start
-// with the binary glTF magic.
-bool is_gltf_file(const std::string& path);
-
 // Throws PLEAT_ERROR_IO (unreadable) or PLEAT_ERROR_FORMAT naming the file
 // and the field at fault: JSON tinygltf refuses, an index out of range, an
 // accessor reaching past its buffer, a node reached twice (the node graph is

@@ -21,14 +21,17 @@
 namespace pleat {
 namespace {
 
-// Binary glTF declares the file's length and its first chunk's length in the
-// 16-byte header; assimp 5.2 allocated the chunk before comparing it with the
-// file (a 1 kB file asked for 4 GB; found by fuzz_glb). Refused here with the
-// numbers, before any reader runs.
-void check_binary_gltf_header(const std::string& path, std::ifstream& in) {
+// True when the file starts with the binary glTF magic. Binary glTF declares
+// the file's length and its first chunk's length in the 16-byte header;
+// assimp 5.2 allocated the chunk before comparing it with the file (a 1 kB
+// file asked for 4 GB; found by fuzz_glb). A header that declares more than
+// the file holds is refused here with the numbers, before any reader runs.
+bool check_binary_gltf_header(const std::string& path, std::ifstream& in) {
   unsigned char h[16] = {};
   in.read(reinterpret_cast<char*>(h), sizeof(h));
-  if (in.gcount() < static_cast<std::streamsize>(sizeof(h)) || std::memcmp(h, "glTF", 4) != 0) return;
+  if (in.gcount() < 4 || std::memcmp(h, "glTF", 4) != 0) return false;
+  if (in.gcount() < static_cast<std::streamsize>(sizeof(h)))
+    return true;  // the glTF reader names what is missing
   const auto u32 = [&](int at) {
     return uint64_t(h[at]) | uint64_t(h[at + 1]) << 8 | uint64_t(h[at + 2]) << 16 | uint64_t(h[at + 3]) << 24;
   };
@@ -37,6 +40,7 @@ void check_binary_gltf_header(const std::string& path, std::ifstream& in) {
     fail(PLEAT_ERROR_FORMAT, path + ": binary glTF header declares " + std::to_string(u32(8)) +
                                  " bytes and a first chunk of " + std::to_string(u32(12)) +
                                  " bytes; the file has " + std::to_string(size));
+  return true;
 }
 
 void check_fbx(const std::string& path, std::ifstream& in) {
@@ -63,14 +67,14 @@ SceneFile::SceneFile(const std::string& path) {
   std::ifstream probe(path, std::ios::binary);
   if (!probe) fail(PLEAT_ERROR_IO, path + ": cannot open the file");
   if (std::filesystem::is_directory(path)) fail(PLEAT_ERROR_IO, path + ": is a directory");
-  check_binary_gltf_header(path, probe);
-  if (is_gltf_file(path)) {
+  const bool binary_gltf = check_binary_gltf_header(path, probe);
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (binary_gltf || extension == ".gltf" || extension == ".glb") {
     gltf_ = read_gltf_scene(path);
     scene_ = gltf_.get();
     return;
   }
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (extension == ".fbx") check_fbx(path, probe);
   importer_ = std::make_unique<Assimp::Importer>();
   remove_gltf_importers(importer_.get());

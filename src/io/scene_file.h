@@ -1,11 +1,11 @@
 #pragma once
 // The scene of a garment mesh or a rigged character file, for the importers
-// that walk it (io/mesh_import, body/rig_import). glTF is read by
-// io/gltf_scene (tinygltf, every index checked by pleat); every other format
-// by assimp, after pleat has refused what assimp 5.2 trusts without
-// checking: a binary glTF header declaring more bytes than the file holds
-// (for glTF under another extension), and the FBX structures assimp
-// recurses over without a bound (io/fbx_precheck.h).
+// that walk it (io/mesh_import, body/rig_import). glTF (.gltf, .glb, or the
+// binary magic under any name) is read by io/gltf_scene (tinygltf, every
+// index checked by pleat); every other format by assimp, after pleat has
+// refused the FBX structures assimp recurses over without a bound
+// (io/fbx_precheck.h). A binary glTF header declaring more bytes than the
+// file holds is refused before either reader runs.
 #include <memory>
 #include <string>
 
