@@ -34,11 +34,20 @@ struct CollisionSettings {
 // A simulation is rejected when, on any kept frame, a garment vertex is further
 // than max_distance from the nearest body vertex (explosion, a garment that
 // fell off), or more than max_penetrating_fraction of the vertices are more
-// than max_penetration inside the body.
+// than max_penetration inside the body; or when, averaged over the kept
+// frames, more than max_slipped_fraction of the vertices have slipped: moved
+// more than slip_distance further from the body vertex they sat nearest at
+// rest than they were at rest (a sleeve the arm passed through, a jacket
+// that slid off the shoulders; docs/datagen.md, "Garments that come off").
+// The slip check is not part of a job's hash:
+// kept sequences are checked again from their files, so changing it never
+// re-simulates.
 struct CheckSettings {
   double max_distance = 0.3;
   double max_penetration = 0.02;
   double max_penetrating_fraction = 0.02;
+  double slip_distance = 0.15;
+  double max_slipped_fraction = 1.0;  // off: a long skirt's hem legitimately leaves the shin it sat at
 };
 
 // The noise floor: every sequence of `split` is simulated a second time

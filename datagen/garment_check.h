@@ -1,6 +1,6 @@
 #pragma once
 // The acceptance check of a simulation (config.h CheckSettings): no NaN, the
-// garment stays near the body, and it does not sink far into it.
+// garment stays near the body and on it, and it does not sink far into it.
 #include <string>
 #include <vector>
 
@@ -16,12 +16,17 @@ struct CheckReport {
   int64_t max_distance_frame = 0;
   double max_penetrating_fraction = 0;  // of vertices deeper than max_penetration, worst frame
   double mean_penetrating_fraction = 0;
+  double mean_slipped_fraction = 0;  // of vertices slipped (CheckSettings), mean over kept frames
+  double max_slipped_fraction = 0;   // worst frame
 };
 
-// garment, body: frame_count frames each (vertices x 3 floats per frame).
+// garment, body: frame_count frames each (vertices x 3 floats per frame);
+// garment_rest and body_rest: the same vertices at rest, where each garment
+// vertex's anchor for the slip check is its nearest body vertex.
 // Penetration depth is the distance behind the nearest body vertex's normal.
-CheckReport check_simulation(const std::vector<float>& garment, int64_t garment_vertices,
-                             const std::vector<float>& body, const Triangles& body_triangles,
-                             int64_t frame_count, const CheckSettings& settings);
+CheckReport check_simulation(const std::vector<float>& garment, const Points3d& garment_rest,
+                             const std::vector<float>& body, const Points3d& body_rest,
+                             const Triangles& body_triangles, int64_t frame_count,
+                             const CheckSettings& settings);
 
 }  // namespace pleat::datagen

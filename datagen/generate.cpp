@@ -125,7 +125,9 @@ void record_check(const CheckReport& check, SequenceMeta* meta) {
   Json s = Json::parse(meta->simulator_json);
   s["check"] = {{"max_distance", check.max_distance},
                 {"max_penetrating_fraction", check.max_penetrating_fraction},
-                {"mean_penetrating_fraction", check.mean_penetrating_fraction}};
+                {"mean_penetrating_fraction", check.mean_penetrating_fraction},
+                {"mean_slipped_fraction", check.mean_slipped_fraction},
+                {"max_slipped_fraction", check.max_slipped_fraction}};
   meta->simulator_json = s.dump();
 }
 
@@ -148,10 +150,7 @@ bool classify(const std::string& out, const Job& job, const std::string& hash, c
   const std::string rejected = out + "/.rejected/" + job.name + ".json";
   if (const Json recorded = sequence_complete(dir) ? recorded_simulator(dir) : Json::object();
       recorded.value("job_hash", "") == hash) {
-    o->status = "kept";
-    const Json check = recorded.value("check", Json::object());
-    o->check.max_distance = check.value("max_distance", 0.0);
-    o->check.max_penetrating_fraction = check.value("max_penetrating_fraction", 0.0);
+    o->status = "kept";  // checked again by recheck()
     return false;
   }
   if (fs::exists(rejected)) {
@@ -168,18 +167,40 @@ bool classify(const std::string& out, const Job& job, const std::string& hash, c
   return false;
 }
 
+// A kept sequence checked again from its files with the config's check (the
+// slip check is not part of the hash). One that fails now stays on disk but
+// leaves splits.json, so a looser check brings it back without a simulation.
+void recheck(const Config& c, const Assets& assets, const Job& job, const std::string& dir,
+             SequenceOutcome* o) {
+  try {
+    const SequenceData d = read_sequence(dir);
+    const Body& body = assets.bodies[job.shape];
+    o->check = check_simulation(d.garment_frames, d.garment_rest.vertices, d.body_frames, body.rest.vertices,
+                                body.rest.triangles, d.meta.frame_count, c.check);
+    if (!o->check.passed) {
+      o->status = "rejected";
+      o->message = o->check.reason;
+    }
+  } catch (const std::exception& e) {
+    o->status = "failed";
+    o->message = e.what();
+  }
+}
+
 // Simulates one job: the sequence folder when the checks pass (every file
 // read back), else a rejection record; exceptions make it "failed".
 void simulate(const Config& c, const Assets& assets, const Job& job, const std::string& hash,
-              const std::string& out, int blender_threads, const FrameProgress& frames, SequenceOutcome* o) {
+              const std::string& out, const GenerateOptions& options, const FrameProgress& frames,
+              SequenceOutcome* o) {
   const std::string dir = out + "/" + job.name, work = out + "/.work/" + job.name;
   try {
     fs::remove(dir + "/meta.json");  // an older job's folder stops counting as complete first
     const SequenceInputs in = prepare_sequence(c, assets, job);
-    const BlenderResult sim = run_blender(c, c.garments[job.garment], in, work, blender_threads, frames);
+    const BlenderResult sim =
+        run_blender(c, c.garments[job.garment], in, work, options.blender_threads, frames);
     SequenceData d = sequence_of(c, job, in, sim, hash);
-    o->check = check_simulation(d.garment_frames, in.garment_rest.vertex_count(), d.body_frames,
-                                in.body->rest.triangles, d.meta.frame_count, c.check);
+    o->check = check_simulation(d.garment_frames, in.garment_rest.vertices, d.body_frames,
+                                in.body->rest.vertices, in.body->rest.triangles, d.meta.frame_count, c.check);
     if (sim.collider_cache_error > 1e-4) {
       o->check.passed = false;
       o->check.reason = "Blender's collider strays " + std::to_string(sim.collider_cache_error) +
@@ -189,7 +210,7 @@ void simulate(const Config& c, const Assets& assets, const Job& job, const std::
       record_check(o->check, &d.meta);
       write_sequence(dir, d);
       read_sequence(dir);  // every file written is read back and checked
-      fs::remove_all(work);
+      if (!options.keep_work) fs::remove_all(work);
       o->status = "done";
     } else {
       o->status = "rejected";
@@ -229,7 +250,9 @@ void draw_progress(const Running& running, int done, size_t total, double elapse
 // per split, and each accepted twin of an accepted sequence).
 void write_report(const std::string& out, const std::vector<Job>& jobs,
                   const std::vector<SequenceOutcome>& outcomes) {
-  std::string tsv = "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmessage\n";
+  std::string tsv =
+      "name\tsplit\tstatus\tseconds\tmax_distance_m\tmax_penetrating_fraction\tmean_slipped_"
+      "fraction\tmessage\n";
   Json splits = {{"train", Json::array()}, {"validation", Json::array()}, {"test", Json::array()}};
   Json twins = Json::object();
   const auto accepted = [&](const SequenceOutcome& s) {
@@ -237,9 +260,9 @@ void write_report(const std::string& out, const std::vector<Job>& jobs,
   };
   for (size_t i = 0; i < jobs.size(); ++i) {
     const SequenceOutcome& o = outcomes[i];
-    char numbers[96];
-    std::snprintf(numbers, sizeof numbers, "%.1f\t%.4f\t%.4f", o.seconds, o.check.max_distance,
-                  o.check.max_penetrating_fraction);
+    char numbers[128];
+    std::snprintf(numbers, sizeof numbers, "%.1f\t%.4f\t%.4f\t%.4f", o.seconds, o.check.max_distance,
+                  o.check.max_penetrating_fraction, o.check.mean_slipped_fraction);
     std::string message = o.message;
     for (char& ch : message)
       if (ch == '\t' || ch == '\n') ch = ' ';
@@ -324,6 +347,11 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
       std::printf("%-10s %s\n", jobs[i].split.c_str(), jobs[i].name.c_str());
     } else if (classify(out, jobs[i], hashes[i], options, &outcomes[i])) {
       todo.push_back(i);
+    } else if (outcomes[i].status == "kept") {
+      recheck(settings(jobs[i]), assets, jobs[i], out + "/" + jobs[i].name, &outcomes[i]);
+      if (options.progress && outcomes[i].status != "kept")
+        std::fprintf(stderr, "%-8s %s (%s, kept from an earlier run: %s)\n", outcomes[i].status.c_str(),
+                     jobs[i].name.c_str(), jobs[i].split.c_str(), outcomes[i].message.c_str());
     }
   }
 
@@ -342,7 +370,7 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
         running[slot] = {jobs[i].name, {0, 0}};
       }
       simulate(
-          settings(jobs[i]), assets, jobs[i], hashes[i], out, options.blender_threads,
+          settings(jobs[i]), assets, jobs[i], hashes[i], out, options,
           [&](int64_t done, int64_t total) {
             std::lock_guard<std::mutex> lock(mutex);
             running[slot].second = {done, total};

@@ -18,6 +18,7 @@ struct GenerateOptions {
   std::string only;         // simulate only sequences whose name contains this
   bool dry_run = false;     // print the plan, simulate nothing
   bool progress = true;     // a progress line on stderr
+  bool keep_work = false;   // keep each job's Blender folder (the whole simulation, lead-in included)
 };
 
 struct SequenceOutcome {

@@ -7,9 +7,13 @@ For every sequence folder (meta.json, body.pc2, garment.pc2, garment.obj) it
 prints, over every --every-th frame: the mean and the worst share of garment
 vertices more than 10 cm from the nearest body vertex (a tight garment that
 Blender let slip off has many; docs/datagen.md#quality-steps-why-24), the
-furthest vertex, and the mean edge strain against the rest garment. The
-datagen check rejects a sequence on its furthest vertex only; this is the
-survey behind the quality setting. Needs python3-numpy and python3-scipy.
+mean and the worst share of vertices that "slipped": moved more than 15 cm
+further from the body vertex they were nearest on the first frame (a sleeve
+the arm went through, a jacket that slid off the shoulders; docs/datagen.md,
+"Garments that come off"), the furthest vertex, and the mean edge strain
+against the rest garment. The datagen check rejects a sequence on its
+furthest vertex only; this is the survey behind the quality setting. Needs
+python3-numpy and python3-scipy.
 """
 import argparse
 import os
@@ -50,27 +54,37 @@ def main():
     parser.add_argument("dataset")
     parser.add_argument("--every", type=int, default=5, help="frame stride (default 5)")
     parser.add_argument("--far", type=float, default=0.1, help="'far' distance in m (default 0.1)")
+    parser.add_argument("--slip", type=float, default=0.15,
+                        help="'slipped' distance in m, beyond the first frame's (default 0.15)")
     args = parser.parse_args()
     names = sorted(n for n in os.listdir(args.dataset)
                    if os.path.exists(os.path.join(args.dataset, n, "meta.json")))
     if not names:
         sys.exit("%s: no sequence folder (with meta.json) in it" % args.dataset)
-    print("%-45s %6s %9s %9s %8s %7s" % ("sequence", "frames", "far mean", "far worst", "furthest", "strain"))
+    print("%-45s %6s %9s %9s %10s %10s %8s %7s" % ("sequence", "frames", "far mean", "far worst", "slip mean",
+                                                    "slip worst", "furthest", "strain"))
     for name in names:
         folder = os.path.join(args.dataset, name)
         body = read_pc2(os.path.join(folder, "body.pc2"))
         garment = read_pc2(os.path.join(folder, "garment.pc2"))
         rest, edges = rest_edges(os.path.join(folder, "garment.obj"))
         rest_length = np.linalg.norm(rest[edges[:, 0]] - rest[edges[:, 1]], axis=1)
-        far, furthest, strain = [], 0.0, []
+        far, slipped, furthest, strain = [], [], 0.0, []
+        # Each vertex against the body vertex nearest it on the first frame:
+        # a sleeve stays near its arm however the arm moves; one the arm went
+        # through is left behind.
+        first_distance, anchor = cKDTree(body[0]).query(garment[0])
         for f in range(0, garment.shape[0], args.every):
             distance, _ = cKDTree(body[f]).query(garment[f])
             far.append(np.mean(distance > args.far))
             furthest = max(furthest, float(distance.max()))
+            from_anchor = np.linalg.norm(garment[f] - body[f][anchor], axis=1)
+            slipped.append(np.mean(from_anchor - first_distance > args.slip))
             length = np.linalg.norm(garment[f][edges[:, 0]] - garment[f][edges[:, 1]], axis=1)
             strain.append(np.mean(np.abs(length - rest_length) / rest_length))
-        print("%-45s %6d %8.1f%% %8.1f%% %7.3fm %6.1f%%" % (name, garment.shape[0], 100 * np.mean(far),
-                                                            100 * np.max(far), furthest, 100 * np.mean(strain)))
+        print("%-45s %6d %8.1f%% %8.1f%% %9.1f%% %9.1f%% %7.3fm %6.1f%%" %
+              (name, garment.shape[0], 100 * np.mean(far), 100 * np.max(far), 100 * np.mean(slipped),
+               100 * np.max(slipped), furthest, 100 * np.mean(strain)))
 
 
 if __name__ == "__main__":

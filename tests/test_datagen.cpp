@@ -514,28 +514,44 @@ TEST(DatagenInputs, EveryPieceOfAGarmentIsPinned) {
   EXPECT_LT(pinned.size(), size_t(g.vertex_count()) / 4);
 }
 
+// A sphere of radius 0.5 m as the body, and as the garment every body vertex
+// pushed out 5 cm along its radius, for `frames` frames.
+struct SphereCheckScene {
+  Triangles triangles;
+  int64_t nb = 0, frames = 3;
+  std::vector<float> body, garment;
+  Points3d body_rest, garment_rest;
+  SphereCheckScene() {
+    const pleat_test::SimpleMesh sphere = pleat_test::icosphere(2, 0.5f);
+    triangles.resize(static_cast<Eigen::Index>(sphere.triangles.size() / 3), 3);
+    for (size_t i = 0; i < sphere.triangles.size(); ++i)
+      triangles.data()[i] = static_cast<int32_t>(sphere.triangles[i]);
+    nb = static_cast<int64_t>(sphere.positions.size() / 3);
+    for (int64_t f = 0; f < frames; ++f)
+      body.insert(body.end(), sphere.positions.begin(), sphere.positions.end());
+    for (float x : body) garment.push_back(x * 1.1f);
+    body_rest = Eigen::Map<const Points3f>(body.data(), nb, 3).cast<double>();
+    garment_rest = body_rest * 1.1;
+  }
+  CheckReport check(const std::vector<float>& g, const CheckSettings& s) const {
+    return check_simulation(g, garment_rest, body, body_rest, triangles, frames, s);
+  }
+};
+
 TEST(DatagenCheck, RejectsExplosionsPenetrationAndNaN) {
-  const pleat_test::SimpleMesh sphere = pleat_test::icosphere(2, 0.5f);
-  Triangles triangles(static_cast<Eigen::Index>(sphere.triangles.size() / 3), 3);
-  for (size_t i = 0; i < sphere.triangles.size(); ++i)
-    triangles.data()[i] = static_cast<int32_t>(sphere.triangles[i]);
-  const auto nb = static_cast<int64_t>(sphere.positions.size() / 3);
-  const int64_t frames = 3;
-  std::vector<float> body;
-  for (int64_t f = 0; f < frames; ++f)
-    body.insert(body.end(), sphere.positions.begin(), sphere.positions.end());
-  // The garment: every body vertex pushed out 5 cm along its radius.
-  std::vector<float> garment;
-  for (float x : body) garment.push_back(x * 1.1f);
+  const SphereCheckScene scene;
+  const std::vector<float>& body = scene.body;
+  const std::vector<float>& garment = scene.garment;
+  const int64_t nb = scene.nb;
   CheckSettings s;
-  CheckReport r = check_simulation(garment, nb, body, triangles, frames, s);
+  CheckReport r = scene.check(garment, s);
   EXPECT_TRUE(r.passed) << r.reason;
   EXPECT_NEAR(r.max_distance, 0.05, 1e-5);
   EXPECT_EQ(r.max_penetrating_fraction, 0.0);
 
   std::vector<float> exploded = garment;
   exploded[(2 * nb + 7) * 3] += 1.0f;  // frame 2, vertex 7 a metre out
-  r = check_simulation(exploded, nb, body, triangles, frames, s);
+  r = scene.check(exploded, s);
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.reason.find("frame 2, vertex 7"), std::string::npos) << r.reason;
   EXPECT_EQ(r.max_distance_frame, 2);
@@ -543,14 +559,60 @@ TEST(DatagenCheck, RejectsExplosionsPenetrationAndNaN) {
   std::vector<float> sunk = garment;
   for (int64_t v = 0; v < nb / 10; ++v)  // 10% of frame 1's vertices 5 cm inside
     for (int k = 0; k < 3; ++k) sunk[(nb + v) * 3 + k] = body[(nb + v) * 3 + k] * 0.9f;
-  r = check_simulation(sunk, nb, body, triangles, frames, s);
+  r = scene.check(sunk, s);
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.reason.find("frame 1:"), std::string::npos) << r.reason;
   EXPECT_NEAR(r.max_penetrating_fraction, double(nb / 10) / double(nb), 1e-9);
 
   std::vector<float> broken = garment;
   broken[5] = std::numeric_limits<float>::quiet_NaN();
-  r = check_simulation(broken, nb, body, triangles, frames, s);
+  r = scene.check(broken, s);
   EXPECT_FALSE(r.passed);
   EXPECT_NE(r.reason.find("frame 0, vertex 1 is not finite"), std::string::npos) << r.reason;
+}
+
+// A garment that the body leaves behind (a sleeve the arm went through) is
+// rejected; one that moves with the body, however far, is not.
+TEST(DatagenCheck, RejectsAGarmentTheBodyCameOutOf) {
+  SphereCheckScene scene;
+  const int64_t nb = scene.nb, frames = scene.frames;
+  CheckSettings s;
+  s.max_slipped_fraction = 0.10;  // off by default
+  // Body and garment travel 2 m together: nothing slipped.
+  std::vector<float> body = scene.body, garment = scene.garment;
+  for (int64_t f = 1; f < frames; ++f)
+    for (int64_t v = 0; v < nb; ++v) {
+      body[(f * nb + v) * 3] += 1.0f * float(f);
+      garment[(f * nb + v) * 3] += 1.0f * float(f);
+    }
+  scene.body = body;
+  CheckReport r = scene.check(garment, s);
+  EXPECT_TRUE(r.passed) << r.reason;
+  EXPECT_EQ(r.mean_slipped_fraction, 0.0);
+
+  // A quarter of the garment stays 2 m behind on frame 2 and 1 m behind on
+  // frame 1: slipped on two of three frames, 1/6 of the vertices on average.
+  // It also lies more than max_distance from the body, so loosen that check to
+  // see the slip check alone.
+  std::vector<float> left_behind = garment;
+  const int64_t quarter = nb / 4;
+  for (int64_t f = 1; f < frames; ++f)
+    for (int64_t v = 0; v < quarter; ++v) left_behind[(f * nb + v) * 3] -= 1.0f * float(f);
+  s.max_distance = 10.0;
+  r = scene.check(left_behind, s);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NEAR(r.mean_slipped_fraction, 2.0 / 3.0 * double(quarter) / double(nb), 1e-12);
+  EXPECT_NEAR(r.max_slipped_fraction, double(quarter) / double(nb), 1e-12);
+  EXPECT_NE(r.reason.find("body came out of the garment"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("worst frame 1"), std::string::npos) << r.reason;
+
+  // Just under the limit passes; 0.9 m behind is under a 1 m slip distance.
+  s.max_slipped_fraction = r.mean_slipped_fraction + 1e-9;
+  EXPECT_TRUE(scene.check(left_behind, s).passed);
+  s.max_slipped_fraction = 0.10;
+  s.slip_distance = 1.05;  // only frame 2's 2 m counts
+  r = scene.check(left_behind, s);
+  EXPECT_TRUE(r.passed) << r.reason;
+  EXPECT_NEAR(r.mean_slipped_fraction, 1.0 / 3.0 * double(quarter) / double(nb), 1e-12);
+  EXPECT_NEAR(r.max_slipped_fraction, double(quarter) / double(nb), 1e-12);
 }

@@ -124,6 +124,23 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
   preview.read(magic, 4);
   EXPECT_EQ(std::string(magic + 1, 3), "PNG") << "the data set's contact sheet";
 
+  // A slip limit applies to kept sequences without a simulation: they leave
+  // splits.json but stay on disk, and the old limit brings them back.
+  Config slipping = config;
+  slipping.check.slip_distance = 0.01;
+  slipping.check.max_slipped_fraction = 0.0;
+  r = generate(slipping, options);
+  EXPECT_EQ(r.count("rejected"), 2);
+  EXPECT_NE(outcome(r, "plain").message.find("the body came out of the garment"), std::string::npos)
+      << outcome(r, "plain").message;
+  EXPECT_EQ(invocations(dir), 3) << "checked again from the files";
+  EXPECT_TRUE(sequence_complete(seq));
+  EXPECT_TRUE(nlohmann::json::parse(std::ifstream(dir + "/set/splits.json"))["train"].empty());
+  r = generate(config, options);
+  EXPECT_EQ(r.count("kept"), 2);
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir + "/set/splits.json"))["train"].size(), 2u);
+  EXPECT_EQ(invocations(dir), 3);
+
   // A folder from another job (its hash differs) is redone.
   nlohmann::json meta;
   std::ifstream(seq + "/meta.json") >> meta;

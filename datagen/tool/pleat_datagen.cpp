@@ -1,7 +1,8 @@
 // `pleat-datagen`: ground-truth sequences from Blender cloth simulation
 // (`pleat datagen` forwards here; docs/datagen.md).
 //
-//   pleat-datagen config.json [--jobs N] [--threads N] [--output DIR] [--only TEXT] [--dry-run] [--quiet]
+//   pleat-datagen config.json [--jobs N] [--threads N] [--output DIR] [--only TEXT] [--dry-run]
+//                 [--keep-work] [--quiet]
 //   pleat-datagen import-sequences config.json [--quiet]   (other simulators' caches)
 //
 // Exit status: 0 when nothing failed (rejected simulations are the check at
@@ -25,12 +26,14 @@ namespace {
 
 const char* kUsage =
     "usage: pleat-datagen config.json [--jobs N] [--threads N] [--output DIR] [--only TEXT] [--dry-run] "
-    "[--quiet]\n"
+    "[--keep-work] [--quiet]\n"
     "  --jobs N      Blender processes at once (default: half the cores, at least 1)\n"
     "  --threads N   Blender threads per process (default: cores / jobs)\n"
     "  --output DIR  where the sequences go (default: the config's output, else the cache folder)\n"
     "  --only TEXT   simulate only sequences whose name contains TEXT\n"
     "  --dry-run     print the plan and stop\n"
+    "  --keep-work   keep each job's Blender folder (<output>/.work/<name>: the whole simulation,\n"
+    "                lead-in included, to see where a sequence went wrong)\n"
     "config.json: docs/datagen.md\n"
     "       pleat-datagen import-sequences config.json [--quiet]\n"
     "  training sequences from other simulators' point caches (docs/pipeline.md)\n"
@@ -146,6 +149,8 @@ int main(int argc, char** argv) {
         options.only = argv[++i];
       } else if (a == "--dry-run") {
         options.dry_run = true;
+      } else if (a == "--keep-work") {
+        options.keep_work = true;
       } else if (a == "--quiet") {
         options.progress = false;
       } else {
