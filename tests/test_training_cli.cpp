@@ -270,7 +270,8 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
 
   // --by-clip: a row per clip, named as datagen names it (stem, x<speed>),
   // each scored on its own sequences: the walk's row repeats the walk's
-  // numbers above; the other clip has no twin, so no floor.
+  // numbers above; the other clip has no twin, so no floor. --by-sequence:
+  // the same, a row per sequence folder.
   const std::string fast = pleat_test::write_skirt_walk(root + "/set", 0.03, "skirt_fast");
   nlohmann::json meta;
   std::ifstream(fast + "/meta.json") >> meta;
@@ -282,7 +283,7 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
       "test": ["skirt_walk", "skirt_fast"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
   std::string clips;
   ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root +
-                                        "/config.json --splits test --by-clip --model " + root +
+                                        "/config.json --splits test --by-clip --by-sequence --model " + root +
                                         "/run/model.pleat 2>&1",
                                     &clips),
             0)
@@ -302,6 +303,13 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
   const double other_lbs = std::stod(clips.substr(other + 22));
   EXPECT_GT(other_lbs, lbs) << "its skirt is pushed further out";
   EXPECT_NE(clips.find(" |  | ", other), std::string::npos) << "no twin, no floor: " << clips;
+  const size_t by_sequence = clips.find(
+      "#### Test split by sequence (E_verts cm)\n\n| sequence | sequences | frames | LBS | noise floor | "
+      "model | ratio |");
+  ASSERT_NE(by_sequence, std::string::npos) << clips;
+  const std::string walk_numbers = std::string(walk_row).substr(std::string("| 12_03_walk_121").size());
+  EXPECT_NE(clips.find("| skirt_walk" + walk_numbers, by_sequence), std::string::npos) << clips;
+  EXPECT_NE(clips.find("| skirt_fast | 1 | 31 | ", by_sequence), std::string::npos) << clips;
   // Its garment is held out, so the test split is also scored seen / held
   // out, each with its summary line: held out is that one sequence.
   const size_t held_out = clips.find("summary: model=model split=test_held_out e_verts_cm=");

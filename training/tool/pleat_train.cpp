@@ -10,13 +10,14 @@
 //   pleat-train baseline config.json [--splits ...] evaluate without a model: plain LBS (nearest
 //                                                body weights) and the noise floor on each split
 //   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
-//                     [--splits train,validation,test] [--by-clip] [-o report.md]
+//                     [--splits train,validation,test] [--by-clip] [--by-sequence] [-o report.md]
 //                                                Table I on each split, side by side: LBS, the
 //                                                noise floor (where the data set has twins), and
 //                                                each model (run by the runtime, at its
 //                                                default_top_k or K joints per vertex); the test
 //                                                split also into seen / held-out garments;
-//                                                --by-clip: E_verts per clip of each split; then
+//                                                --by-clip: E_verts per clip of each split;
+//                                                --by-sequence: per sequence; then
 //                                                one `summary:` line per model and split
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
 //                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
@@ -31,6 +32,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -54,7 +56,7 @@ const char* kUsage =
     "       pleat-train ablation config.json [--only RUN]\n"
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
-    "[--top-k K] [--splits train,validation,test] [--by-clip] [-o report.md]\n"
+    "[--top-k K] [--splits train,validation,test] [--by-clip] [--by-sequence] [-o report.md]\n"
     "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
     "[--repeats N] [--no-libtorch] [--against-blender datagen.json]\n"
     "config.json: docs/training.md\n";
@@ -196,20 +198,24 @@ std::vector<size_t> with_twin(const SplitScores& scores, const std::vector<size_
   return out;
 }
 
-// E_verts per clip of a split, in the order the clips first appear: LBS, the
-// noise floor where every sequence of the clip has a twin, and each model
-// with its ratio to LBS. Shows which motions a model fails on.
-std::string clip_table(const std::string& title, const SplitScores& scores, const LoadedModels& models) {
+// E_verts per group of a split (`group` names a sequence's group: its clip,
+// or the sequence itself), in the order the groups first appear: LBS, the
+// noise floor where every sequence of the group has a twin, and each model
+// with its ratio to LBS. Shows which motions, or which simulations, a model
+// fails on.
+std::string group_table(const std::string& title, const std::string& kind, const SplitScores& scores,
+                        const LoadedModels& models,
+                        const std::function<std::string(const std::string&)>& group) {
   using pleat::training::frame_weighted;
   std::vector<std::pair<std::string, std::vector<size_t>>> clips;
   for (size_t i = 0; i < scores.dirs.size(); ++i) {
-    const std::string clip = sequence_clip(scores.dirs[i]);
+    const std::string clip = group(scores.dirs[i]);
     auto it = std::find_if(clips.begin(), clips.end(), [&](const auto& e) { return e.first == clip; });
     if (it == clips.end()) it = clips.insert(clips.end(), {clip, {}});
     it->second.push_back(i);
   }
-  std::string table =
-      "\n#### " + title + " by clip (E_verts cm)\n\n| clip | sequences | frames | LBS | noise floor |";
+  std::string table = "\n#### " + title + " by " + kind + " (E_verts cm)\n\n| " + kind +
+                      " | sequences | frames | LBS | noise floor |";
   std::string rule = "\n|---|---|---|---|---|";
   for (const auto& model : models) {
     table += " " + model.first + " | ratio |";
@@ -282,7 +288,7 @@ int evaluate(int argc, char** argv) {
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
   std::vector<std::string> models, splits;
   std::string output;
-  bool stages = false, by_clip = false;
+  bool stages = false, by_clip = false, by_sequence = false;
   pleat::runtime::InstanceOptions options;
   for (int i = 3; i < argc; ++i) {
     if (std::strcmp(argv[i], "--model") == 0 && i + 1 < argc) {
@@ -291,6 +297,8 @@ int evaluate(int argc, char** argv) {
       stages = true;
     } else if (std::strcmp(argv[i], "--by-clip") == 0) {
       by_clip = true;
+    } else if (std::strcmp(argv[i], "--by-sequence") == 0) {
+      by_sequence = true;
     } else if (std::strcmp(argv[i], "--top-k") == 0 && i + 1 < argc) {
       options.top_k = std::stoi(argv[++i]);
       if (options.top_k < 1) throw std::invalid_argument("--top-k needs a count of at least 1");
@@ -357,7 +365,11 @@ int evaluate(int argc, char** argv) {
     std::vector<size_t> all(dirs.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     summary.push_back(section(title, split, scores, all));
-    if (by_clip) report += clip_table(title, scores, loaded);
+    if (by_clip) report += group_table(title, "clip", scores, loaded, sequence_clip);
+    if (by_sequence)
+      report += group_table(title, "sequence", scores, loaded, [](const std::string& dir) {
+        return std::filesystem::path(dir).filename().string();
+      });
     if (split != "test") continue;
     std::vector<size_t> seen, held_out;
     for (size_t i = 0; i < dirs.size(); ++i) (held_out_garment(dirs[i]) ? held_out : seen).push_back(i);
