@@ -48,6 +48,7 @@ void read_check(Fields f, CheckSettings* c) {
   c->max_distance = f.number("max_distance", c->max_distance, 0.01, 10);
   c->max_penetration = f.number("max_penetration", c->max_penetration, 0.001, 1);
   c->max_penetrating_fraction = f.number("max_penetrating_fraction", c->max_penetrating_fraction, 0, 1);
+  c->max_body_speed = f.number("max_body_speed", c->max_body_speed, 0.1, 1000);
   c->slip_distance = f.number("slip_distance", c->slip_distance, 0.01, 10);
   c->max_slipped_fraction = f.number("max_slipped_fraction", c->max_slipped_fraction, 0, 1);
   f.done();

@@ -39,13 +39,16 @@ struct CollisionSettings {
 // more than slip_distance further from the body vertex they sat nearest at
 // rest than they were at rest (a sleeve the arm passed through, a jacket
 // that slid off the shoulders; docs/datagen.md, "Garments that come off").
-// The slip check is not part of a job's hash:
-// kept sequences are checked again from their files, so changing it never
-// re-simulates.
+// A body vertex faster than max_body_speed between two kept frames rejects
+// it too: no person moves like that, a clip that jumps does (a reference
+// pose as its first frame; skip_frames). The slip and speed checks are not
+// part of a job's hash: kept sequences are checked again from their files,
+// so changing them never re-simulates.
 struct CheckSettings {
   double max_distance = 0.3;
   double max_penetration = 0.02;
   double max_penetrating_fraction = 0.02;
+  double max_body_speed = 15.0;  // m/s; CMU's fastest hands reach about 8 m/s, a reference-pose jump 20-36
   double slip_distance = 0.15;
   double max_slipped_fraction = 1.0;  // off: a long skirt's hem legitimately leaves the shin it sat at
 };

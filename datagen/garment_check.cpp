@@ -1,5 +1,6 @@
 #include "garment_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -10,7 +11,7 @@ namespace pleat::datagen {
 
 CheckReport check_simulation(const std::vector<float>& garment, const Points3d& garment_rest,
                              const std::vector<float>& body, const Points3d& body_rest,
-                             const Triangles& body_triangles, int64_t frame_count,
+                             const Triangles& body_triangles, int64_t frame_count, double frame_rate,
                              const CheckSettings& settings) {
   CheckReport r;
   const int64_t garment_vertices = garment_rest.rows(), body_vertices = body_rest.rows();
@@ -37,6 +38,22 @@ CheckReport check_simulation(const std::vector<float>& garment, const Points3d& 
       }
     const Points3d b =
         Eigen::Map<const Points3f>(body.data() + f * body_vertices * 3, body_vertices, 3).cast<double>();
+    if (f > 0) {
+      const Eigen::Map<const Points3f> before(body.data() + (f - 1) * body_vertices * 3, body_vertices, 3);
+      Eigen::Index fastest = 0;
+      const double speed =
+          std::sqrt((b.cast<float>() - before).rowwise().squaredNorm().maxCoeff(&fastest)) * frame_rate;
+      r.max_body_speed = std::max(r.max_body_speed, speed);
+      if (speed > settings.max_body_speed) {
+        char why[256];
+        std::snprintf(why, sizeof why,
+                      "frame %lld: body vertex %lld moves at %.1f m/s (limit %.1f): the clip jumps there (a "
+                      "reference pose as its first frame? skip_frames)",
+                      static_cast<long long>(f), static_cast<long long>(fastest), speed,
+                      settings.max_body_speed);
+        fail_with(why);
+      }
+    }
     const Points3d x = Eigen::Map<const Points3f>(g, garment_vertices, 3).cast<double>();
     const Points3d normals = vertex_normals(b, body_triangles);
     const std::vector<int32_t> nearest = nearest_points(b, x);

@@ -11,8 +11,9 @@ namespace pleat::datagen {
 
 struct CheckReport {
   bool passed = true;
-  std::string reason;       // the first failure, naming the frame and vertex
-  double max_distance = 0;  // m, over kept frames and vertices, to the nearest body vertex
+  std::string reason;         // the first failure, naming the frame and vertex
+  double max_distance = 0;    // m, over kept frames and vertices, to the nearest body vertex
+  double max_body_speed = 0;  // m/s, the fastest body vertex between two kept frames
   int64_t max_distance_frame = 0;
   double max_penetrating_fraction = 0;  // of vertices deeper than max_penetration, worst frame
   double mean_penetrating_fraction = 0;
@@ -20,13 +21,13 @@ struct CheckReport {
   double max_slipped_fraction = 0;   // worst frame
 };
 
-// garment, body: frame_count frames each (vertices x 3 floats per frame);
-// garment_rest and body_rest: the same vertices at rest, where each garment
-// vertex's anchor for the slip check is its nearest body vertex.
+// garment, body: frame_count frames each (vertices x 3 floats per frame) at
+// frame_rate; garment_rest and body_rest: the same vertices at rest, where
+// each garment vertex's anchor for the slip check is its nearest body vertex.
 // Penetration depth is the distance behind the nearest body vertex's normal.
 CheckReport check_simulation(const std::vector<float>& garment, const Points3d& garment_rest,
                              const std::vector<float>& body, const Points3d& body_rest,
-                             const Triangles& body_triangles, int64_t frame_count,
+                             const Triangles& body_triangles, int64_t frame_count, double frame_rate,
                              const CheckSettings& settings);
 
 }  // namespace pleat::datagen

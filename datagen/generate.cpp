@@ -126,6 +126,7 @@ void record_check(const CheckReport& check, SequenceMeta* meta) {
   s["check"] = {{"max_distance", check.max_distance},
                 {"max_penetrating_fraction", check.max_penetrating_fraction},
                 {"mean_penetrating_fraction", check.mean_penetrating_fraction},
+                {"max_body_speed", check.max_body_speed},
                 {"mean_slipped_fraction", check.mean_slipped_fraction},
                 {"max_slipped_fraction", check.max_slipped_fraction}};
   meta->simulator_json = s.dump();
@@ -176,7 +177,7 @@ void recheck(const Config& c, const Assets& assets, const Job& job, const std::s
     const SequenceData d = read_sequence(dir);
     const Body& body = assets.bodies[job.shape];
     o->check = check_simulation(d.garment_frames, d.garment_rest.vertices, d.body_frames, body.rest.vertices,
-                                body.rest.triangles, d.meta.frame_count, c.check);
+                                body.rest.triangles, d.meta.frame_count, d.meta.frame_rate, c.check);
     if (!o->check.passed) {
       o->status = "rejected";
       o->message = o->check.reason;
@@ -199,8 +200,9 @@ void simulate(const Config& c, const Assets& assets, const Job& job, const std::
     const BlenderResult sim =
         run_blender(c, c.garments[job.garment], in, work, options.blender_threads, frames);
     SequenceData d = sequence_of(c, job, in, sim, hash);
-    o->check = check_simulation(d.garment_frames, in.garment_rest.vertices, d.body_frames,
-                                in.body->rest.vertices, in.body->rest.triangles, d.meta.frame_count, c.check);
+    o->check =
+        check_simulation(d.garment_frames, in.garment_rest.vertices, d.body_frames, in.body->rest.vertices,
+                         in.body->rest.triangles, d.meta.frame_count, d.meta.frame_rate, c.check);
     if (sim.collider_cache_error > 1e-4) {
       o->check.passed = false;
       o->check.reason = "Blender's collider strays " + std::to_string(sim.collider_cache_error) +

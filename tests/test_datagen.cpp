@@ -534,7 +534,7 @@ struct SphereCheckScene {
     garment_rest = body_rest * 1.1;
   }
   CheckReport check(const std::vector<float>& g, const CheckSettings& s) const {
-    return check_simulation(g, garment_rest, body, body_rest, triangles, frames, s);
+    return check_simulation(g, garment_rest, body, body_rest, triangles, frames, 30.0, s);
   }
 };
 
@@ -578,6 +578,7 @@ TEST(DatagenCheck, RejectsAGarmentTheBodyCameOutOf) {
   const int64_t nb = scene.nb, frames = scene.frames;
   CheckSettings s;
   s.max_slipped_fraction = 0.10;  // off by default
+  s.max_body_speed = 100.0;       // the body travels 1 m a frame here (30 m/s)
   // Body and garment travel 2 m together: nothing slipped.
   std::vector<float> body = scene.body, garment = scene.garment;
   for (int64_t f = 1; f < frames; ++f)
@@ -615,4 +616,29 @@ TEST(DatagenCheck, RejectsAGarmentTheBodyCameOutOf) {
   EXPECT_TRUE(r.passed) << r.reason;
   EXPECT_NEAR(r.mean_slipped_fraction, 1.0 / 3.0 * double(quarter) / double(nb), 1e-12);
   EXPECT_NEAR(r.max_slipped_fraction, double(quarter) / double(nb), 1e-12);
+}
+
+// A body that jumps between two frames (a clip whose first frame is a
+// reference pose) is rejected, naming the frame; walking speed is not.
+TEST(DatagenCheck, RejectsABodyThatJumps) {
+  SphereCheckScene scene;
+  const int64_t nb = scene.nb;
+  std::vector<float> body = scene.body, garment = scene.garment;
+  for (int64_t v = 0; v < nb; ++v) {  // frame 1: 5 cm on (1.5 m/s); frame 2: 0.7 m on (21 m/s)
+    body[(nb + v) * 3] += 0.05f;
+    garment[(nb + v) * 3] += 0.05f;
+    body[(2 * nb + v) * 3] += 0.75f;
+    garment[(2 * nb + v) * 3] += 0.75f;
+  }
+  scene.body = body;
+  CheckSettings s;
+  CheckReport r = scene.check(garment, s);
+  EXPECT_FALSE(r.passed);
+  EXPECT_NEAR(r.max_body_speed, 0.70 * 30.0, 1e-4);
+  EXPECT_NE(r.reason.find("frame 2: body vertex"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("skip_frames"), std::string::npos) << r.reason;
+  s.max_body_speed = 22.0;
+  r = scene.check(garment, s);
+  EXPECT_TRUE(r.passed) << r.reason;
+  EXPECT_NEAR(r.max_body_speed, 21.0, 1e-4);
 }
