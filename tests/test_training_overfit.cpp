@@ -33,7 +33,9 @@ std::string simulate_skirt(const std::string& dir) {
       << " \"shapes\": [{\"name\": \"female\", \"values\": {\"gender\": 0.0}}],\n"
       << " \"motions\": [{\"source\": \"" << a << "/motions/cmu_daz/02_02.bvh\", \"map\": \""
       << pleat_test::source_dir() << "/data/retarget/cmu_daz.txt\"}],\n"
-      << " \"cloth\": {\"quality\": 8}, \"collision\": {\"quality\": 1}, \"check\": {\"max_distance\": 0.5}}";
+      << " \"cloth\": {\"quality\": 8}, \"collision\": {\"quality\": 1},"
+      << " \"check\": {\"max_distance\": 0.5, \"max_body_speed\": 40}}";  // 02_02's frame 0 is its reference
+                                                                          // pose
   std::string output;
   const std::string command =
       std::string(std::getenv("PLEAT_CLI")) + " datagen " + dir + "/datagen.json --jobs 1 --quiet 2>&1";

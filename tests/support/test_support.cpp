@@ -101,7 +101,7 @@ std::string skirt_datagen_config(const std::string& dir, const std::string& sett
   const std::string a = asset_dir();
   return "{" + settings + " \"name\": \"t\", \"body\": \"" + a + "/body\", \"output\": \"" + dir +
          "/set\",\n \"segment_frames\": 12, \"segments_per_clip\": 1, \"mirror\": false, \"rest_frames\": 3,"
-         " \"blend_frames\": 6, \"sequences\": " +
+         " \"blend_frames\": 6, \"check\": {\"max_body_speed\": 40}, \"sequences\": " +
          sequences + ",\n \"garments\": [{\"name\": \"skirt\", \"mhclo\": \"" + a +
          "/garments/helpers_mhclo/skirthelper.mhclo\"}],\n \"shapes\": " + shapes +
          ",\n \"motions\": [{\"source\": \"" + a + "/motions/cmu_daz/02_02.bvh\", \"map\": \"" +

@@ -33,7 +33,9 @@ std::vector<Eigen::Vector3f> area_weighted_normals(const float* x, size_t n,
                                                    const std::vector<uint32_t>& triangles);
 
 // A pleat datagen config: a skirt on `shapes` (a JSON array) in 12 frames
-// of 02_02 (3 rest and 6 blend frames before), written to dir/set;
+// of 02_02 (3 rest and 6 blend frames before), written to dir/set. It keeps
+// the clip's reference pose as frame 0, as the tests were written, so the
+// body speed limit is raised past that jump (check.max_body_speed 40 m/s);
 // `sequences` is its JSON object of counts per split, `settings` (JSON
 // members with a trailing comma) go in first.
 std::string skirt_datagen_config(const std::string& dir, const std::string& settings,
