@@ -118,7 +118,7 @@ TEST(DatagenConfig, ShippedPerAssetConfigCoversEveryClipOnce) {
   EXPECT_EQ(c.twins.split, "test");
 }
 
-// The augmented dress sets (clips played at other speeds, clips turned)
+// The augmented dress sets (clips played at other speeds, clips turned or spun)
 // change only the training clips of the main set, simulated as it is, so the
 // test clips stay unseen.
 TEST(DatagenConfig, ShippedAugmentedConfigsChangeOnlyTheTrainingClips) {
@@ -140,6 +140,7 @@ TEST(DatagenConfig, ShippedAugmentedConfigsChangeOnlyTheTrainingClips) {
   };
   check("dress_speed.json", {{0.8, 0.0}, {1.3, 0.0}});
   check("dress_turn.json", {{1.0, 360.0}});
+  check("dress_spin.json", {{1.0, 600.0}});
 }
 
 TEST(DatagenConfig, ErrorsNameTheField) {
