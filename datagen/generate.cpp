@@ -169,8 +169,9 @@ bool classify(const std::string& out, const Job& job, const std::string& hash, c
 }
 
 // A kept sequence checked again from its files with the config's check (the
-// slip and speed limits are not part of the hash). One that fails now stays on disk but
-// leaves splits.json, so a looser check brings it back without a simulation.
+// slip and speed limits are not part of the hash). One that fails now stays
+// on disk but leaves splits.json, so a looser check brings it back without a
+// simulation.
 void recheck(const Config& c, const Assets& assets, const Job& job, const std::string& dir,
              SequenceOutcome* o) {
   try {

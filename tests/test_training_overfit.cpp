@@ -34,8 +34,8 @@ std::string simulate_skirt(const std::string& dir) {
       << " \"motions\": [{\"source\": \"" << a << "/motions/cmu_daz/02_02.bvh\", \"map\": \""
       << pleat_test::source_dir() << "/data/retarget/cmu_daz.txt\"}],\n"
       << " \"cloth\": {\"quality\": 8}, \"collision\": {\"quality\": 1},"
-      << " \"check\": {\"max_distance\": 0.5, \"max_body_speed\": 40}}";  // 02_02's frame 0 is its reference
-                                                                          // pose
+      // 02_02's frame 0 is its reference pose: the body jumps past the default speed limit.
+      << " \"check\": {\"max_distance\": 0.5, \"max_body_speed\": 40}}";
   std::string output;
   const std::string command =
       std::string(std::getenv("PLEAT_CLI")) + " datagen " + dir + "/datagen.json --jobs 1 --quiet 2>&1";
