@@ -283,8 +283,8 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
       "test": ["skirt_walk", "skirt_fast"], "twins": {"skirt_walk": "skirt_walk.twin"}})";
   std::string clips;
   ASSERT_EQ(pleat_test::run_command(trainer + " evaluate " + root +
-                                        "/config.json --splits test --by-clip --by-sequence --model " + root +
-                                        "/run/model.pleat 2>&1",
+                                        "/config.json --splits test --by-clip --by-sequence --errors " +
+                                        root + "/errors --model " + root + "/run/model.pleat 2>&1",
                                     &clips),
             0)
       << clips;
@@ -324,6 +324,48 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
       "summary: model=model split=test_seen e_verts_cm=%.3f lbs_e_verts_cm=%.3f noise_floor_cm=%.3f\n",
       std::stod(walk_model), lbs, floor);
   EXPECT_NE(clips.find(seen_line), std::string::npos) << seen_line << "\n" << clips;
+
+  // --errors: the walk's distance per frame and per vertex; the mean of
+  // either column is that sequence's E_verts in the report (LBS, floor,
+  // model). The fast clip has no twin: an empty floor column.
+  const auto read_csv = [](const std::string& path, std::string* header) {
+    std::ifstream in(path);
+    std::getline(in, *header);
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(in, line);) {
+      std::vector<std::string> cells;
+      std::stringstream cell_stream(line);
+      for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
+      if (!line.empty() && line.back() == ',') cells.emplace_back();
+      rows.push_back(cells);
+    }
+    return rows;
+  };
+  const auto column_mean = [](const std::vector<std::vector<std::string>>& rows, size_t column) {
+    double sum = 0.0;
+    for (const auto& r : rows) sum += std::stod(r.at(column));
+    return sum / static_cast<double>(rows.size());
+  };
+  std::string header;
+  const auto frames = read_csv(root + "/errors/test/skirt_walk_frames.csv", &header);
+  EXPECT_EQ(header, "frame,lbs_cm,noise_floor_cm,model_cm");
+  ASSERT_EQ(frames.size(), 31u);
+  EXPECT_EQ(frames[30][0], "30");
+  const auto vertices = read_csv(root + "/errors/test/skirt_walk_vertices.csv", &header);
+  EXPECT_EQ(header, "vertex,rest_x,rest_y,rest_z,lbs_cm,noise_floor_cm,model_cm");
+  const pleat::SequenceData walk_sequence = pleat::read_sequence(root + "/set/skirt_walk");
+  ASSERT_EQ(vertices.size(), static_cast<size_t>(walk_sequence.garment_rest.vertex_count()));
+  for (int k = 0; k < 3; ++k)  // the rest position, in metres
+    EXPECT_NEAR(std::stod(vertices[7].at(1 + k)), walk_sequence.garment_rest.vertices(7, k), 1e-5);
+  const double expected[] = {lbs, floor, std::stod(walk_model)};
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(column_mean(frames, 1 + k), expected[k], 6e-4) << header;
+    EXPECT_NEAR(column_mean(vertices, 4 + k), expected[k], 6e-4) << header;
+  }
+  const auto fast_frames = read_csv(root + "/errors/test/skirt_fast_frames.csv", &header);
+  ASSERT_EQ(fast_frames.size(), 31u);
+  EXPECT_EQ(fast_frames[0].at(2), "") << "no twin, no floor";
+  EXPECT_NEAR(column_mean(fast_frames, 1), other_lbs, 6e-4);
 }
 
 // `pleat bench`: every host setting on the test split with its run time and

@@ -10,7 +10,8 @@
 //   pleat-train baseline config.json [--splits ...] evaluate without a model: plain LBS (nearest
 //                                                body weights) and the noise floor on each split
 //   pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] [--top-k K]
-//                     [--splits train,validation,test] [--by-clip] [--by-sequence] [-o report.md]
+//                     [--splits train,validation,test] [--by-clip] [--by-sequence] [--errors DIR]
+//                     [-o report.md]
 //                                                Table I on each split, side by side: LBS, the
 //                                                noise floor (where the data set has twins), and
 //                                                each model (run by the runtime, at its
@@ -18,7 +19,9 @@
 //                                                split also into seen / held-out garments;
 //                                                --by-clip: E_verts per clip of each split;
 //                                                --by-sequence: per sequence; then
-//                                                one `summary:` line per model and split
+//                                                one `summary:` line per model and split;
+//                                                --errors: each sequence's vertex distance per
+//                                                frame and per vertex as CSV in DIR/<split>/
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
 //                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
 //                                                run time against error on one split: the runtime
@@ -41,6 +44,7 @@
 #include "bench.h"
 #include "bench_blender.h"
 #include "core/error.h"
+#include "error_maps.h"
 #include "evaluation.h"
 #include "io/atomic_file.h"
 #include "io/contact_sheet.h"
@@ -56,7 +60,8 @@ const char* kUsage =
     "       pleat-train ablation config.json [--only RUN]\n"
     "       pleat-train baseline config.json\n"
     "       pleat-train evaluate config.json --model M.pleat [--model N.pleat ...] [--stages] "
-    "[--top-k K] [--splits train,validation,test] [--by-clip] [--by-sequence] [-o report.md]\n"
+    "[--top-k K] [--splits train,validation,test] [--by-clip] [--by-sequence] [--errors DIR] "
+    "[-o report.md]\n"
     "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
     "[--repeats N] [--no-libtorch] [--against-blender datagen.json]\n"
     "config.json: docs/training.md\n";
@@ -287,7 +292,7 @@ int evaluate(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("evaluate needs a config file");
   const pleat::training::TrainerConfig c = pleat::training::read_trainer_config(argv[2]);
   std::vector<std::string> models, splits;
-  std::string output;
+  std::string output, errors_dir;
   bool stages = false, by_clip = false, by_sequence = false;
   pleat::runtime::InstanceOptions options;
   for (int i = 3; i < argc; ++i) {
@@ -308,6 +313,8 @@ int evaluate(int argc, char** argv) {
         split_folders(c, name, "--splits");  // refuses an unknown name
         splits.push_back(name);
       }
+    } else if (std::strcmp(argv[i], "--errors") == 0 && i + 1 < argc) {
+      errors_dir = argv[++i];
     } else if (std::strcmp(argv[i], "-o") == 0 && i + 1 < argc) {
       output = argv[++i];
     } else {
@@ -365,6 +372,9 @@ int evaluate(int argc, char** argv) {
     std::vector<size_t> all(dirs.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     summary.push_back(section(title, split, scores, all));
+    if (!errors_dir.empty())
+      pleat::training::write_error_maps(pleat::training::Dataset(dirs), c.twins, loaded, options,
+                                        errors_dir + "/" + split);
     if (by_clip) report += group_table(title, "clip", scores, loaded, sequence_clip);
     if (by_sequence)
       report += group_table(title, "sequence", scores, loaded, [](const std::string& dir) {

@@ -1,0 +1,107 @@
+#include "error_maps.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "capi/pleat.h"
+#include "core/error.h"
+#include "evaluation.h"
+#include "io/atomic_file.h"
+
+namespace pleat::training {
+
+VertexErrors vertex_errors(const TrainingSequence& s, const float* predicted) {
+  const int64_t frames = s.frame_count(), n = s.garment->rest.vertex_count();
+  const torch::Tensor truth_tensor = s.truth.contiguous();
+  const float* truth = truth_tensor.data_ptr<float>();
+  VertexErrors e;
+  e.per_frame.assign(static_cast<size_t>(frames), 0.0);
+  e.per_vertex.assign(static_cast<size_t>(n), 0.0);
+  for (int64_t f = 0; f < frames; ++f)
+    for (int64_t v = 0; v < n; ++v) {
+      const float* p = predicted + (f * n + v) * 3;
+      const float* t = truth + (f * n + v) * 3;
+      const double d =
+          100.0 * std::sqrt(double(p[0] - t[0]) * (p[0] - t[0]) + double(p[1] - t[1]) * (p[1] - t[1]) +
+                            double(p[2] - t[2]) * (p[2] - t[2]));
+      e.per_frame[static_cast<size_t>(f)] += d / double(n);
+      e.per_vertex[static_cast<size_t>(v)] += d / double(frames);
+    }
+  return e;
+}
+
+namespace {
+
+void write_csv(const std::string& path, const std::string& header, size_t rows,
+               const std::vector<std::string>& row_prefix, const std::vector<const VertexErrors*>& columns,
+               bool per_frame) {
+  AtomicFile f(path);
+  f.write(header + "\n");
+  char cell[32];
+  for (size_t r = 0; r < rows; ++r) {
+    std::string line = row_prefix[r];
+    for (const VertexErrors* c : columns) {
+      line += ',';
+      if (!c) continue;  // no twin: an empty noise-floor cell
+      std::snprintf(cell, sizeof cell, "%.4f", (per_frame ? c->per_frame : c->per_vertex)[r]);
+      line += cell;
+    }
+    f.write(line + "\n");
+  }
+  f.commit();
+}
+
+}  // namespace
+
+void write_error_maps(
+    const Dataset& data, const std::map<std::string, std::string>& twins,
+    const std::vector<std::pair<std::string, std::shared_ptr<const runtime::Model>>>& models,
+    const runtime::InstanceOptions& options, const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) fail(PLEAT_ERROR_IO, "--errors folder '" + dir + "': " + ec.message());
+  std::string header = "lbs_cm,noise_floor_cm";
+  for (const auto& m : models) header += "," + m.first + "_cm";
+  for (const TrainingSequence& s : data.sequences()) {
+    const int64_t frames = s.frame_count(), n = s.garment->rest.vertex_count();
+    std::vector<float> lbs(static_cast<size_t>(frames * n * 3));
+    NearestWeightsLbs(s).frames(0, frames, lbs.data());
+    const VertexErrors lbs_errors = vertex_errors(s, lbs.data());
+    std::optional<VertexErrors> twin_errors;
+    if (const auto twin = twins.find(s.dir); twin != twins.end()) {
+      const Dataset twin_data({twin->second});
+      const TrainingSequence& t = twin_data.sequences().front();
+      if (t.frame_count() != frames || t.truth.size(1) != n)
+        fail(PLEAT_ERROR_INVALID_ARGUMENT, "twin '" + twin->second + "' has " +
+                                               std::to_string(t.frame_count()) + " frames of " +
+                                               std::to_string(t.truth.size(1)) + " vertices, its sequence " +
+                                               std::to_string(frames) + " of " + std::to_string(n));
+      const torch::Tensor truth = t.truth.contiguous();
+      twin_errors = vertex_errors(s, truth.data_ptr<float>());
+    }
+    std::vector<VertexErrors> model_errors;
+    for (const auto& m : models)
+      model_errors.push_back(
+          vertex_errors(s, model_frames(s, m.second, runtime::Stage::refinement, options).data()));
+    std::vector<const VertexErrors*> columns{&lbs_errors, twin_errors ? &*twin_errors : nullptr};
+    for (const VertexErrors& e : model_errors) columns.push_back(&e);
+
+    const std::string stem = dir + "/" + std::filesystem::path(s.dir).filename().string();
+    std::vector<std::string> prefix(static_cast<size_t>(frames));
+    for (int64_t f = 0; f < frames; ++f) prefix[static_cast<size_t>(f)] = std::to_string(f);
+    write_csv(stem + "_frames.csv", "frame," + header, prefix.size(), prefix, columns, true);
+    prefix.assign(static_cast<size_t>(n), "");
+    char rest[96];
+    for (int64_t v = 0; v < n; ++v) {
+      const auto& p = s.garment->rest.vertices.row(v);
+      std::snprintf(rest, sizeof rest, "%lld,%.5f,%.5f,%.5f", static_cast<long long>(v), p.x(), p.y(), p.z());
+      prefix[static_cast<size_t>(v)] = rest;
+    }
+    write_csv(stem + "_vertices.csv", "vertex,rest_x,rest_y,rest_z," + header, prefix.size(), prefix, columns,
+              false);
+  }
+}
+
+}  // namespace pleat::training
