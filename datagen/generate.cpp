@@ -52,6 +52,7 @@ Json job_identity(const Config& c, const Job& job) {
   // Only when set, so the sequences of data sets made before the option keep their hash.
   if (m.speed != 1.0) identity["speed"] = m.speed;
   if (m.turn != 0.0) identity["turn"] = m.turn;
+  if (m.hold_frames != 0) identity["hold_frames"] = m.hold_frames;
   return identity;
 }
 
@@ -104,6 +105,7 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   const MotionSpec& motion = c.motions[job.segment.motion];
   if (motion.speed != 1.0) s["motion_speed"] = motion.speed;
   if (motion.turn != 0.0) s["motion_turn_degrees_per_second"] = motion.turn;
+  if (motion.hold_frames != 0) s["motion_hold_frames"] = motion.hold_frames;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
   m.simulator_json = s.dump();

@@ -68,7 +68,7 @@ Assets load_assets(const Config& config) {
                                              std::to_string(source.frame_count) + " frames");
     source = cut_motion(source, m.skip_frames, source.frame_count - m.skip_frames);
     source.frame_rate *= m.speed;  // the same poses, reached sooner (or later)
-    a.motions.push_back(resample_motion(source, config.frame_rate));
+    a.motions.push_back(hold_motion(resample_motion(source, config.frame_rate), m.hold_frames));
     a.maps.push_back(m.map.empty() ? JointMap{} : read_joint_map(m.map));
   }
   return a;

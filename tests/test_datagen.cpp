@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "blender_run.h"
+#include "body/bvh.h"
 #include "body/makehuman.h"
 #include "config.h"
 #include "core/nearest_points.h"
@@ -54,6 +55,13 @@ std::string config_text(const std::string& extra = "") {
 
 Config parsed(const std::string& extra = "") {
   return parse_config(config_text(extra), "/tmp/c.json");
+}
+
+// config_text() with `motion` (a JSON object) as its second clip.
+std::string with_second_motion(const std::string& motion) {
+  std::string text = config_text();
+  const std::string first = "/motions/cmu_mb/12_03.bvh\"}";
+  return text.replace(text.find(first), first.size(), first + ",\n  " + motion);
 }
 
 }  // namespace
@@ -141,6 +149,34 @@ TEST(DatagenConfig, ShippedAugmentedConfigsChangeOnlyTheTrainingClips) {
   check("dress_speed.json", {{0.8, 0.0}, {1.3, 0.0}});
   check("dress_turn.json", {{1.0, 360.0}});
   check("dress_spin.json", {{1.0, 600.0}});
+}
+
+// The pose set: every MakeHuman pose of the pack that stands within 30
+// degrees of upright (not the flying, handstand, sitting or lunging ones,
+// whose root tilts 34-160 degrees: a dress is not worn lying down), held
+// after the lead-in, training data only, simulated as the main dress set is.
+TEST(DatagenConfig, ShippedPoseConfigHoldsEveryUprightMakeHumanPose) {
+  const Config main = read_config(pleat_test::source_dir() + "/data/datagen/dress.json");
+  const Config poses = read_config(pleat_test::source_dir() + "/data/datagen/dress_poses.json");
+  std::set<std::string> expected, got;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(pleat_test::asset_dir() + "/motions/makehuman_poses")) {
+    if (entry.path().extension() != ".bvh") continue;
+    const Motion pose = read_bvh(entry.path().string()).motion;
+    const double tilt = std::acos((pose.frame(0)[0] * Eigen::Vector3d::UnitY()).y()) * 180.0 / M_PI;
+    if (tilt < 30.0) expected.insert(entry.path().filename().string());
+  }
+  EXPECT_EQ(expected.size(), 10u);
+  for (const MotionSpec& m : poses.motions) {
+    got.insert(std::filesystem::path(m.source).filename().string());
+    EXPECT_EQ(m.split, "train") << m.name;
+    EXPECT_EQ(m.hold_frames, 30) << m.name;
+    EXPECT_EQ(std::filesystem::path(m.map).filename(), "makehuman_default.txt") << m.name;
+  }
+  EXPECT_EQ(got, expected);
+  EXPECT_EQ(poses.train, 2 * static_cast<int64_t>(expected.size())) << "each pose and its mirror";
+  EXPECT_EQ(simulator_settings(poses, poses.garments[0]), simulator_settings(main, main.garments[0]));
+  EXPECT_EQ(poses.shapes[0].values, main.shapes[0].values);
 }
 
 TEST(DatagenConfig, ErrorsNameTheField) {
@@ -322,11 +358,8 @@ TEST(DatagenPlan, TwinsRepeatTheirSplitPerturbed) {
 // A clip played faster is resampled from a time-warped source: frame k at
 // speed 2 is frame 2k at speed 1, and it is another clip, named by its rate.
 TEST(DatagenInputs, SpeedTimeWarpsTheClip) {
-  std::string text = config_text();
-  const std::string first = "/motions/cmu_mb/12_03.bvh\"}";
-  text.replace(text.find(first), first.size(),
-               first + ",\n  {\"source\": \"" + pleat_test::asset_dir() +
-                   "/motions/cmu_mb/12_03.bvh\", \"speed\": 2}");
+  std::string text = with_second_motion("{\"source\": \"" + pleat_test::asset_dir() +
+                                        "/motions/cmu_mb/12_03.bvh\", \"speed\": 2}");
   const Config c = parse_config(text, "/tmp/c.json");
   ASSERT_EQ(c.motions.size(), 4u);
   EXPECT_EQ(c.motions[1].name, "12_03x2");
@@ -342,6 +375,33 @@ TEST(DatagenInputs, SpeedTimeWarpsTheClip) {
   }
   text.replace(text.find("\"speed\": 2"), 10, "\"speed\": 0");
   expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[1].speed' must be in");
+}
+
+// A single-frame MakeHuman pose, mapped onto the body's rig and held: a
+// static clip of 1 + hold_frames frames, cut into segments like any clip of
+// that length.
+TEST(DatagenInputs, HoldFramesMakeAPoseFileAStaticClip) {
+  std::string text = with_second_motion(
+      "{\"source\": \"" + pleat_test::asset_dir() + "/motions/makehuman_poses/fight02.bvh\", \"map\": \"" +
+      pleat_test::source_dir() + "/data/retarget/makehuman_default.txt\", \"hold_frames\": 59}");
+  const Config c = parse_config(text, "/tmp/c.json");
+  ASSERT_EQ(c.motions.size(), 4u);
+  EXPECT_EQ(c.motions[1].name, "fight02");
+  EXPECT_EQ(c.motions[1].hold_frames, 59);
+  EXPECT_EQ(c.motions[0].hold_frames, 0);
+  const Assets a = load_assets(c);
+  const Motion& pose = a.motions[1];
+  ASSERT_EQ(pose.frame_count, 60);
+  for (size_t j = 0; j < pose.skeleton.names.size(); ++j)
+    EXPECT_EQ(pose.frame(59)[j].coeffs(), pose.frame(0)[j].coeffs()) << j;
+  EXPECT_GT(pose.frame(0)[pose.skeleton.find("upperleg01.R")].angularDistance(Eigen::Quaterniond::Identity()),
+            0.1)
+      << "the pose is not the rest pose";
+  const std::vector<Segment> segments = clip_segments(c, 1, pose.frame_count);
+  ASSERT_EQ(segments.size(), 2u) << "the clip and its mirror";
+  for (const Segment& s : segments) EXPECT_EQ(s.count, 60);
+  text.replace(text.find("\"hold_frames\": 59"), 17, "\"hold_frames\": -1");
+  expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[1].hold_frames' must be");
 }
 
 // A turned clip is another clip, named by its rate. Its sequence is the

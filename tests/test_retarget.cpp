@@ -146,6 +146,26 @@ TEST(Resample, CutMotion) {
   expect_error([&] { pleat::cut_motion(m, 110, 20); }, PLEAT_ERROR_INVALID_ARGUMENT, "outside [0, 121)");
 }
 
+TEST(Resample, HoldRepeatsTheLastFrame) {
+  const Motion m = pleat::cut_motion(walk_fixture(), 10, 5);
+  const Motion h = pleat::hold_motion(m, 3);
+  ASSERT_EQ(h.frame_count, 8);
+  pleat::validate_motion(h, "held");
+  EXPECT_EQ(h.frame(2)[5].coeffs(), m.frame(2)[5].coeffs());
+  for (int64_t f = 4; f < 8; ++f) {
+    for (int32_t j = 0; j < m.skeleton.joint_count(); ++j)
+      ASSERT_EQ(h.frame(f)[j].coeffs(), m.frame(4)[j].coeffs()) << f << " " << j;
+    EXPECT_EQ(h.root_translation.row(f), m.root_translation.row(4));
+  }
+  // A single-frame pose file (24 fps header) resampled to 30 fps and held
+  // becomes a static clip.
+  const Motion pose =
+      pleat::resample_motion(pleat::read_bvh(motions_dir() + "/makehuman_poses/standing01.bvh").motion, 30.0);
+  EXPECT_EQ(pleat::hold_motion(pose, 59).frame_count, 60);
+  EXPECT_EQ(pleat::hold_motion(m, 0).frame_count, 5);
+  expect_error([&] { pleat::hold_motion(m, -1); }, PLEAT_ERROR_INVALID_ARGUMENT, "-1 frames");
+}
+
 TEST(Retarget, OntoItselfIsIdentity) {
   const Motion m = walk_fixture();
   pleat::RetargetReport report;
@@ -235,7 +255,7 @@ TEST(Retarget, MappingFilesParseAndNameRigJoints) {
     for (const auto& e : map.entries)
       EXPECT_TRUE(rig.count(e.target)) << entry.path() << ":" << e.line << " " << e.target;
   }
-  EXPECT_EQ(files, 6);
+  EXPECT_EQ(files, 7);
 }
 
 TEST(Retarget, DazWalkByMappingFile) {
@@ -275,6 +295,50 @@ TEST(Retarget, DazWalkByMappingFile) {
     EXPECT_LT(e.max_from_mean, 0.08) << t;
     RecordProperty(std::string("foot_vertical_") + t, std::to_string(e.max_vertical));
   }
+}
+
+// The single-frame poses of makehuman-assets (MakeHuman's default rig, 163
+// joints; the T pose 173) onto the body's cmu_mb skeleton. Both rigs sit on
+// the same base mesh; the default rig cuts the thigh, upper arm, lower spine
+// and neck into segments the poses bend, which one cmu_mb bone can only
+// follow in part, so each bone is held to its measured worst angle against
+// the chord of its source chain (makehuman_default.txt); a wrong pairing
+// (left for right, a segment further down) is off by far more.
+TEST(Retarget, MakeHumanPosesByMappingFile) {
+  const auto model = pleat::MakeHumanModel::load(pleat_test::asset_dir() + "/body");
+  const pleat::Body body = model->body(pleat::makehuman_default_beta());
+  const pleat::JointMap map = pleat::read_joint_map(map_path("makehuman_default.txt"));
+  pleat::RetargetOptions options;
+  options.map = &map;
+  struct Bone {
+    const char *source_from, *source_to, *target_from, *target_to;
+    double max_degrees;  // measured 4.9, 0.8, 8.3, 2.6, 10.6, 17.1
+  };
+  const Bone bones[] = {{"upperleg01.L", "lowerleg01.L", "LeftUpLeg", "LeftLeg", 5.5},
+                        {"upperleg01.R", "lowerleg01.R", "RightUpLeg", "RightLeg", 5.5},
+                        {"lowerleg01.L", "foot.L", "LeftLeg", "LeftFoot", 1.0},
+                        {"lowerleg01.R", "foot.R", "RightLeg", "RightFoot", 1.0},
+                        {"upperarm01.L", "lowerarm01.L", "LeftArm", "LeftForeArm", 9.0},
+                        {"upperarm01.R", "lowerarm01.R", "RightArm", "RightForeArm", 9.0},
+                        {"lowerarm01.L", "wrist.L", "LeftForeArm", "LeftHand", 3.0},
+                        {"lowerarm01.R", "wrist.R", "RightForeArm", "RightHand", 3.0},
+                        {"spine04", "spine02", "LowerBack", "Spine", 11.0},
+                        {"neck01", "head", "Neck", "Head", 18.0}};
+  int poses = 0;
+  for (const auto& entry : fs::directory_iterator(motions_dir() + "/makehuman_poses")) {
+    if (entry.path().extension() != ".bvh") continue;
+    ++poses;
+    const Motion pose = pleat::read_bvh(entry.path().string()).motion;
+    pleat::RetargetReport report;
+    const Motion r = pleat::retarget_motion(pose, body.skeleton, options, &report);
+    pleat::validate_motion(r, entry.path().string());
+    EXPECT_EQ(report.unmapped_targets.size(), 31u - 24u) << entry.path() << ": Neck1 and the fingers";
+    for (const Bone& b : bones)
+      EXPECT_LT(max_bone_angle(pose, r, b.source_from, b.source_to, b.target_from, b.target_to),
+                b.max_degrees)
+          << entry.path() << " " << b.target_from;
+  }
+  EXPECT_EQ(poses, 16);
 }
 
 TEST(Retarget, ThreeDsMaxAndSimplifiedFamilies) {

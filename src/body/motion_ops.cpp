@@ -151,6 +151,22 @@ Motion cut_motion(const Motion& m, int64_t first, int64_t count) {
   return out;
 }
 
+Motion hold_motion(const Motion& m, int64_t frames) {
+  if (m.frame_count < 1 || frames < 0)
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "hold_motion: " + std::to_string(frames) +
+                                           " frames after a motion of " + std::to_string(m.frame_count));
+  Motion out = empty_like(m, m.frame_count + frames);
+  const size_t n = static_cast<size_t>(m.skeleton.joint_count());
+  std::copy(m.rotations.begin(), m.rotations.end(), out.rotations.begin());
+  out.root_translation.topRows(m.frame_count) = m.root_translation;
+  for (int64_t f = m.frame_count; f < out.frame_count; ++f) {
+    std::copy(m.rotations.end() - static_cast<std::ptrdiff_t>(n), m.rotations.end(),
+              out.rotations.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(f) * n));
+    out.root_translation.row(f) = m.root_translation.row(m.frame_count - 1);
+  }
+  return out;
+}
+
 // ---- Mapping files ---------------------------------------------------------------
 
 JointMap parse_joint_map(const std::string& text, const std::string& source) {

@@ -26,6 +26,11 @@ Motion resample_motion(const Motion& motion, double frame_rate);
 // Frames [first, first + count) as a motion of their own.
 Motion cut_motion(const Motion& motion, int64_t first, int64_t count);
 
+// The motion followed by `frames` copies of its last frame: a single-frame
+// pose file becomes a clip that holds the pose. Throws
+// PLEAT_ERROR_INVALID_ARGUMENT for an empty motion or a negative count.
+Motion hold_motion(const Motion& motion, int64_t frames);
+
 // ---- Joint-name mapping files -------------------------------------------------
 // Text, one pair per line: "<source name>[|<alternative>...] <target name>",
 // '#' starts a comment, blank lines are ignored. The first alternative present
