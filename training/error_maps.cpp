@@ -1,6 +1,6 @@
 #include "error_maps.h"
 
-#include <cmath>
+#include <Eigen/Core>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -21,26 +21,24 @@ VertexErrors vertex_errors(const TrainingSequence& s, const float* predicted) {
   e.per_vertex.assign(static_cast<size_t>(n), 0.0);
   for (int64_t f = 0; f < frames; ++f)
     for (int64_t v = 0; v < n; ++v) {
-      const float* p = predicted + (f * n + v) * 3;
-      const float* t = truth + (f * n + v) * 3;
-      const double d =
-          100.0 * std::sqrt(double(p[0] - t[0]) * (p[0] - t[0]) + double(p[1] - t[1]) * (p[1] - t[1]) +
-                            double(p[2] - t[2]) * (p[2] - t[2]));
-      e.per_frame[static_cast<size_t>(f)] += d / double(n);
-      e.per_vertex[static_cast<size_t>(v)] += d / double(frames);
+      const Eigen::Map<const Eigen::Vector3f> p(predicted + (f * n + v) * 3), t(truth + (f * n + v) * 3);
+      const double cm = 100.0 * (p - t).cast<double>().norm();  // positions are metres
+      e.per_frame[static_cast<size_t>(f)] += cm / double(n);
+      e.per_vertex[static_cast<size_t>(v)] += cm / double(frames);
     }
   return e;
 }
 
 namespace {
 
-void write_csv(const std::string& path, const std::string& header, size_t rows,
-               const std::vector<std::string>& row_prefix, const std::vector<const VertexErrors*>& columns,
-               bool per_frame) {
+// One row per entry of `row_prefix` (the frame, or the vertex and its rest
+// position), then each column's value for that row.
+void write_csv(const std::string& path, const std::string& header, const std::vector<std::string>& row_prefix,
+               const std::vector<const VertexErrors*>& columns, bool per_frame) {
   AtomicFile f(path);
   f.write(header + "\n");
   char cell[32];
-  for (size_t r = 0; r < rows; ++r) {
+  for (size_t r = 0; r < row_prefix.size(); ++r) {
     std::string line = row_prefix[r];
     for (const VertexErrors* c : columns) {
       line += ',';
@@ -91,7 +89,7 @@ void write_error_maps(
     const std::string stem = dir + "/" + std::filesystem::path(s.dir).filename().string();
     std::vector<std::string> prefix(static_cast<size_t>(frames));
     for (int64_t f = 0; f < frames; ++f) prefix[static_cast<size_t>(f)] = std::to_string(f);
-    write_csv(stem + "_frames.csv", "frame," + header, prefix.size(), prefix, columns, true);
+    write_csv(stem + "_frames.csv", "frame," + header, prefix, columns, true);
     prefix.assign(static_cast<size_t>(n), "");
     char rest[96];
     for (int64_t v = 0; v < n; ++v) {
@@ -99,8 +97,7 @@ void write_error_maps(
       std::snprintf(rest, sizeof rest, "%lld,%.5f,%.5f,%.5f", static_cast<long long>(v), p.x(), p.y(), p.z());
       prefix[static_cast<size_t>(v)] = rest;
     }
-    write_csv(stem + "_vertices.csv", "vertex,rest_x,rest_y,rest_z," + header, prefix.size(), prefix, columns,
-              false);
+    write_csv(stem + "_vertices.csv", "vertex,rest_x,rest_y,rest_z," + header, prefix, columns, false);
   }
 }
 
