@@ -170,10 +170,9 @@ struct SplitScores {
 };
 
 SplitScores score_split(const pleat::training::TrainerConfig& c, const std::vector<std::string>& dirs,
-                        const LoadedModels& models, bool stages,
+                        const pleat::training::Dataset& data, const LoadedModels& models, bool stages,
                         const pleat::runtime::InstanceOptions& options) {
   using pleat::runtime::Stage;
-  const pleat::training::Dataset data(dirs);
   SplitScores scores;
   scores.dirs = dirs;
   scores.lbs = pleat::training::lbs_per_sequence(data);
@@ -368,13 +367,13 @@ int evaluate(int argc, char** argv) {
                               : split == "validation" ? "Validation split"
                                                       : "Test split";
     std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
-    const SplitScores scores = score_split(c, dirs, loaded, stages, options);
+    const pleat::training::Dataset data(dirs);  // loaded once: the scores and the error maps share it
+    const SplitScores scores = score_split(c, dirs, data, loaded, stages, options);
     std::vector<size_t> all(dirs.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     summary.push_back(section(title, split, scores, all));
     if (!errors_dir.empty())
-      pleat::training::write_error_maps(pleat::training::Dataset(dirs), c.twins, loaded, options,
-                                        errors_dir + "/" + split);
+      pleat::training::write_error_maps(data, c.twins, loaded, options, errors_dir + "/" + split);
     if (by_clip) report += group_table(title, "clip", scores, loaded, sequence_clip);
     if (by_sequence)
       report += group_table(title, "sequence", scores, loaded, [](const std::string& dir) {
