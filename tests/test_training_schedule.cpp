@@ -3,6 +3,8 @@
 // (the demo's must be the paper's phases and weights with shorter advances).
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "schedule.h"
@@ -159,6 +161,31 @@ TEST(TrainingSchedule, PerAssetScheduleHasNoTermWhoseMinimumIsLbs) {
   EXPECT_GT(first.weights.at("k_mid"), 0) << "frequency-divided supervision";
   EXPECT_GT(first.plateau_epochs, 0);
   EXPECT_GT(first.epochs, 0);
-  for (const char* term : {"normal", "curvature", "collision", "self_collision"}) EXPECT_GT(seen[term], 0) << term;
+  for (const char* term : {"normal", "curvature", "collision", "self_collision"})
+    EXPECT_GT(seen[term], 0) << term;
   EXPECT_EQ(seen.at("vertex"), 100) << "the data term keeps its weight to the end";
+}
+
+// The mid-band experiments (decisions 0016, 0019, 0021) compare against the
+// per-asset schedule on the premise that only k_mid differs: every other
+// weight, every phase and every advance rule must match it.
+TEST(TrainingSchedule, MidBandVariantsChangeOnlyTheMidBandWeight) {
+  const Schedule base = read_schedule(schedule_file("per_asset.json"));
+  for (const auto& [file, k_mid] : {std::pair<const char*, double>{"per_asset_kmid16.json", 16},
+                                    std::pair<const char*, double>{"per_asset_kmid32.json", 32}}) {
+    const Schedule s = read_schedule(schedule_file(file));
+    ASSERT_EQ(s.phases.size(), base.phases.size()) << file;
+    for (size_t i = 0; i < s.phases.size(); ++i) {
+      const Phase& p = s.phases[i];
+      const Phase& b = base.phases[i];
+      LossWeights expected = b.weights;
+      if (expected.count("k_mid")) expected["k_mid"] = k_mid;
+      EXPECT_EQ(p.weights, expected) << file << " phase " << i;
+      EXPECT_EQ(p.name, b.name) << file;
+      EXPECT_EQ(p.epochs, b.epochs) << file;
+      EXPECT_EQ(p.plateau_epochs, b.plateau_epochs) << file;
+      EXPECT_EQ(p.plateau_improvement, b.plateau_improvement) << file;
+    }
+    EXPECT_EQ(s.phases.front().weights.at("k_mid"), k_mid) << file;
+  }
 }
