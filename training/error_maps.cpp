@@ -3,11 +3,9 @@
 #include <Eigen/Core>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 
 #include "capi/pleat.h"
 #include "core/error.h"
-#include "evaluation.h"
 #include "io/atomic_file.h"
 
 namespace pleat::training {
@@ -53,38 +51,23 @@ void write_csv(const std::string& path, const std::string& header, const std::ve
 
 }  // namespace
 
-void write_error_maps(
-    const Dataset& data, const std::map<std::string, std::string>& twins,
-    const std::vector<std::pair<std::string, std::shared_ptr<const runtime::Model>>>& models,
-    const runtime::InstanceOptions& options, const std::string& dir) {
+void write_error_maps(const Dataset& data, const std::vector<SequenceErrors>& errors,
+                      const std::vector<std::string>& model_names, const std::string& dir) {
+  if (errors.size() != data.sequences().size())
+    fail(PLEAT_ERROR_INVALID_ARGUMENT, "write_error_maps: " + std::to_string(errors.size()) +
+                                           " sets of errors for " + std::to_string(data.sequences().size()) +
+                                           " sequences");
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) fail(PLEAT_ERROR_IO, "--errors folder '" + dir + "': " + ec.message());
   std::string header = "lbs_cm,noise_floor_cm";
-  for (const auto& m : models) header += "," + m.first + "_cm";
-  for (const TrainingSequence& s : data.sequences()) {
+  for (const std::string& name : model_names) header += "," + name + "_cm";
+  for (size_t i = 0; i < errors.size(); ++i) {
+    const TrainingSequence& s = data.sequences()[i];
+    const SequenceErrors& e = errors[i];
     const int64_t frames = s.frame_count(), n = s.garment->rest.vertex_count();
-    std::vector<float> lbs(static_cast<size_t>(frames * n * 3));
-    NearestWeightsLbs(s).frames(0, frames, lbs.data());
-    const VertexErrors lbs_errors = vertex_errors(s, lbs.data());
-    std::optional<VertexErrors> twin_errors;
-    if (const auto twin = twins.find(s.dir); twin != twins.end()) {
-      const Dataset twin_data({twin->second});
-      const TrainingSequence& t = twin_data.sequences().front();
-      if (t.frame_count() != frames || t.truth.size(1) != n)
-        fail(PLEAT_ERROR_INVALID_ARGUMENT, "twin '" + twin->second + "' has " +
-                                               std::to_string(t.frame_count()) + " frames of " +
-                                               std::to_string(t.truth.size(1)) + " vertices, its sequence " +
-                                               std::to_string(frames) + " of " + std::to_string(n));
-      const torch::Tensor truth = t.truth.contiguous();
-      twin_errors = vertex_errors(s, truth.data_ptr<float>());
-    }
-    std::vector<VertexErrors> model_errors;
-    for (const auto& m : models)
-      model_errors.push_back(
-          vertex_errors(s, model_frames(s, m.second, runtime::Stage::refinement, options).data()));
-    std::vector<const VertexErrors*> columns{&lbs_errors, twin_errors ? &*twin_errors : nullptr};
-    for (const VertexErrors& e : model_errors) columns.push_back(&e);
+    std::vector<const VertexErrors*> columns{&e.lbs, e.noise_floor ? &*e.noise_floor : nullptr};
+    for (const VertexErrors& m : e.models) columns.push_back(&m);
 
     const std::string stem = dir + "/" + std::filesystem::path(s.dir).filename().string();
     std::vector<std::string> prefix(static_cast<size_t>(frames));

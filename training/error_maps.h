@@ -4,14 +4,11 @@
 // technical artist can find the frames and the region of the garment a
 // model fails on, next to LBS and the noise floor.
 
-#include <map>
-#include <memory>
+#include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "dataset.h"
-#include "runtime/instance.h"
 
 namespace pleat::training {
 
@@ -24,14 +21,21 @@ struct VertexErrors {
 };
 VertexErrors vertex_errors(const TrainingSequence& s, const float* predicted);
 
-// For each sequence of `data`, writes <dir>/<sequence>_frames.csv (frame,
-// lbs_cm, noise_floor_cm, <model>_cm...) and <dir>/<sequence>_vertices.csv
-// (vertex, rest_x, rest_y, rest_z in metres, then the same columns), each
-// atomically; noise_floor_cm is empty where `twins` has no twin of the
-// sequence's folder. The models run as the report runs them (full stage).
-void write_error_maps(
-    const Dataset& data, const std::map<std::string, std::string>& twins,
-    const std::vector<std::pair<std::string, std::shared_ptr<const runtime::Model>>>& models,
-    const runtime::InstanceOptions& options, const std::string& dir);
+// One sequence's columns of the error maps: LBS, the noise floor (none
+// without a twin) and each model, in the report's order. The report's scoring
+// fills them from the frames it scores, so nothing runs twice.
+struct SequenceErrors {
+  VertexErrors lbs;
+  std::optional<VertexErrors> noise_floor;
+  std::vector<VertexErrors> models;
+};
+
+// For each sequence of `data` (errors[i] its columns, model_names the models'
+// column names), writes <dir>/<sequence>_frames.csv (frame, lbs_cm,
+// noise_floor_cm, <model>_cm...) and <dir>/<sequence>_vertices.csv (vertex,
+// rest_x, rest_y, rest_z in metres, then the same columns), each atomically;
+// noise_floor_cm is empty where the sequence has no twin.
+void write_error_maps(const Dataset& data, const std::vector<SequenceErrors>& errors,
+                      const std::vector<std::string>& model_names, const std::string& dir);
 
 }  // namespace pleat::training

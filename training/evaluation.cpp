@@ -106,13 +106,15 @@ MetricsResult frame_weighted(const std::vector<MetricsResult>& per_sequence,
   return total;
 }
 
+std::vector<float> lbs_frames(const TrainingSequence& s) {
+  std::vector<float> out(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
+  NearestWeightsLbs(s).frames(0, s.frame_count(), out.data());
+  return out;
+}
+
 std::vector<MetricsResult> lbs_per_sequence(const Dataset& data) {
   std::vector<MetricsResult> out;
-  for (const TrainingSequence& s : data.sequences()) {
-    std::vector<float> predicted(static_cast<size_t>(s.frame_count() * s.garment->rest.vertex_count() * 3));
-    NearestWeightsLbs(s).frames(0, s.frame_count(), predicted.data());
-    out.push_back(sequence_metrics(s, predicted.data()));
-  }
+  for (const TrainingSequence& s : data.sequences()) out.push_back(sequence_metrics(s, lbs_frames(s).data()));
   return out;
 }
 

@@ -42,6 +42,8 @@ class NearestWeightsLbs {
   SkinMatrices matrices_;
   Points3d posed_;
 };
+// A whole sequence skinned so: frame_count x N x 3 floats.
+std::vector<float> lbs_frames(const TrainingSequence& s);
 MetricsResult lbs_baseline(const Dataset& data);
 std::vector<MetricsResult> lbs_per_sequence(const Dataset& data);
 

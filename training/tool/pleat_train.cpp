@@ -161,35 +161,52 @@ struct SplitRows {
 using LoadedModels = std::vector<std::pair<std::string, std::shared_ptr<const pleat::runtime::Model>>>;
 
 // Every sequence of a split scored once; the split's rows, its subsets' and
-// its clips' are frame-weighted means of these.
+// its clips' are frame-weighted means of these, and the error maps are read
+// from the same frames.
 struct SplitScores {
   std::vector<std::string> dirs;
   std::vector<pleat::MetricsResult> lbs, noise_floor;  // noise_floor: frame_count 0 without a twin
   // [model][sequence]; skinning and blend-shape stages only with --stages.
   std::vector<std::vector<pleat::MetricsResult>> skinning, blend_shapes, full;
+  std::vector<pleat::training::SequenceErrors> errors;  // [sequence], only with --errors
 };
 
 SplitScores score_split(const pleat::training::TrainerConfig& c, const std::vector<std::string>& dirs,
                         const pleat::training::Dataset& data, const LoadedModels& models, bool stages,
-                        const pleat::runtime::InstanceOptions& options) {
+                        bool errors, const pleat::runtime::InstanceOptions& options) {
   using pleat::runtime::Stage;
+  namespace training = pleat::training;
   SplitScores scores;
   scores.dirs = dirs;
-  scores.lbs = pleat::training::lbs_per_sequence(data);
   scores.noise_floor.resize(dirs.size());
-  for (size_t i = 0; i < dirs.size(); ++i)
-    if (const auto t = c.twins.find(dirs[i]); t != c.twins.end())
-      scores.noise_floor[i] = pleat::training::twin_metrics(
-          data.sequences()[i], pleat::training::Dataset({t->second}).sequences().front(), i);
-  for (const auto& model : models) {
-    if (stages) {
-      scores.skinning.push_back(
-          pleat::training::model_per_sequence(data, model.second, Stage::skinning, options));
-      scores.blend_shapes.push_back(
-          pleat::training::model_per_sequence(data, model.second, Stage::blend_shapes, options));
+  scores.full.resize(models.size());
+  if (stages) scores.skinning = scores.blend_shapes = scores.full;
+  for (size_t i = 0; i < dirs.size(); ++i) {
+    const training::TrainingSequence& s = data.sequences()[i];
+    training::SequenceErrors e;
+    const std::vector<float> lbs = training::lbs_frames(s);
+    scores.lbs.push_back(training::sequence_metrics(s, lbs.data()));
+    if (errors) e.lbs = training::vertex_errors(s, lbs.data());
+    if (const auto t = c.twins.find(dirs[i]); t != c.twins.end()) {
+      const training::Dataset twin_data({t->second});
+      const training::TrainingSequence& twin = twin_data.sequences().front();
+      scores.noise_floor[i] = training::twin_metrics(s, twin, i);
+      const torch::Tensor truth = twin.truth.contiguous();
+      if (errors) e.noise_floor = training::vertex_errors(s, truth.data_ptr<float>());
     }
-    scores.full.push_back(
-        pleat::training::model_per_sequence(data, model.second, Stage::refinement, options));
+    for (size_t m = 0; m < models.size(); ++m) {
+      if (stages) {
+        scores.skinning[m].push_back(training::sequence_metrics(
+            s, training::model_frames(s, models[m].second, Stage::skinning, options).data()));
+        scores.blend_shapes[m].push_back(training::sequence_metrics(
+            s, training::model_frames(s, models[m].second, Stage::blend_shapes, options).data()));
+      }
+      const std::vector<float> predicted =
+          training::model_frames(s, models[m].second, Stage::refinement, options);
+      scores.full[m].push_back(training::sequence_metrics(s, predicted.data()));
+      if (errors) e.models.push_back(training::vertex_errors(s, predicted.data()));
+    }
+    if (errors) scores.errors.push_back(std::move(e));
   }
   return scores;
 }
@@ -324,8 +341,11 @@ int evaluate(int argc, char** argv) {
   if (c.test.empty() && std::find(splits.begin(), splits.end(), "test") != splits.end())
     throw std::invalid_argument("the config names no test sequences (or leave test out of --splits)");
   LoadedModels loaded;
-  for (const std::string& m : models)
-    loaded.emplace_back(model_label(m, models), pleat::runtime::load_model_file(m));
+  std::vector<std::string> model_names;
+  for (const std::string& m : models) {
+    model_names.push_back(model_label(m, models));
+    loaded.emplace_back(model_names.back(), pleat::runtime::load_model_file(m));
+  }
   std::string report;
   std::vector<SplitRows> summary;
   // The rows of the sequences at `indices` of a scored split.
@@ -367,13 +387,13 @@ int evaluate(int argc, char** argv) {
                               : split == "validation" ? "Validation split"
                                                       : "Test split";
     std::fprintf(stderr, "evaluating %s (%zu sequences)\n", title.c_str(), dirs.size());
-    const pleat::training::Dataset data(dirs);  // loaded once: the scores and the error maps share it
-    const SplitScores scores = score_split(c, dirs, data, loaded, stages, options);
+    const pleat::training::Dataset data(dirs);
+    const SplitScores scores = score_split(c, dirs, data, loaded, stages, !errors_dir.empty(), options);
     std::vector<size_t> all(dirs.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     summary.push_back(section(title, split, scores, all));
     if (!errors_dir.empty())
-      pleat::training::write_error_maps(data, c.twins, loaded, options, errors_dir + "/" + split);
+      pleat::training::write_error_maps(data, scores.errors, model_names, errors_dir + "/" + split);
     if (by_clip) report += group_table(title, "clip", scores, loaded, sequence_clip);
     if (by_sequence)
       report += group_table(title, "sequence", scores, loaded, [](const std::string& dir) {
