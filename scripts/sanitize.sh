@@ -24,12 +24,16 @@ case "${1:-}" in
   --build-only) build_only=1; shift ;;
   --thread) tree=build-tsan; sanitizers=(-DPLEAT_TSAN=ON); shift ;;
 esac
-# -O1 and line tables only: enough for the sanitizers' stack traces, and CI
-# builds this tree from scratch on every run.
+# CI builds this tree from scratch on every run, so it is built for build
+# time: -O1 and line tables only (enough for the sanitizers' stack traces) and
+# unity batches, which parse Eigen's headers once per batch instead of once
+# per file (step time 870 -> 625 CPU s for CI's ASan targets, 2026-12-06).
+# Unity batches share one scope: a file-local name must be unique within its
+# library (kDenseKind, not kKind).
 CC=clang CXX=clang++ cmake -S "$root" -B "$root/$tree" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "${sanitizers[@]}" \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-  -DPLEAT_BUILD_BENCH=OFF -DPLEAT_BUILD_TRAINING=OFF >/dev/null
+  -DCMAKE_UNITY_BUILD=ON -DPLEAT_BUILD_BENCH=OFF -DPLEAT_BUILD_TRAINING=OFF >/dev/null
 cmake --build "$root/$tree" -j "$(nproc)" ${1:+--target "$@"}
 [ $build_only -eq 1 ] && exit 0
 cd "$root/$tree"

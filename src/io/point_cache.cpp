@@ -75,22 +75,6 @@ void store_f32(float value, bool big_endian, std::vector<unsigned char>* out) {
 
 // ---- Files -----------------------------------------------------------------
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-// Opens a regular file for reading; its size goes to *size.
-FilePtr open_for_reading(const std::string& path, int64_t* size) {
-  FilePtr file(std::fopen(path.c_str(), "rb"));
-  if (!file) fail(PLEAT_ERROR_IO, "cannot open " + in_quotes(path) + ": " + std::strerror(errno));
-  struct stat info;
-  if (::fstat(::fileno(file.get()), &info) != 0 || !S_ISREG(info.st_mode))
-    fail(PLEAT_ERROR_IO, "cannot read " + in_quotes(path) + ": not a regular file");
-  *size = static_cast<int64_t>(info.st_size);
-  return file;
-}
-
 void read_at(std::FILE* file, const std::string& path, int64_t offset, void* out, size_t bytes) {
   if (::fseeko(file, static_cast<off_t>(offset), SEEK_SET) != 0 || std::fread(out, 1, bytes, file) != bytes) {
     if (std::ferror(file)) fail(PLEAT_ERROR_IO, "cannot read " + in_quotes(path));

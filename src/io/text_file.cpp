@@ -14,10 +14,6 @@
 namespace pleat {
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const { std::fclose(f); }
-};
-
 void require_regular_file(const std::string& path) {
   struct stat info;
   if (::stat(path.c_str(), &info) != 0)
@@ -27,13 +23,20 @@ void require_regular_file(const std::string& path) {
 
 }  // namespace
 
-std::string read_text_file(const std::string& path) {
-  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+FilePtr open_for_reading(const std::string& path, int64_t* size) {
+  FilePtr file(std::fopen(path.c_str(), "rb"));
   if (!file) fail(PLEAT_ERROR_IO, "cannot open '" + path + "': " + std::strerror(errno));
   struct stat info;
   if (::fstat(::fileno(file.get()), &info) != 0 || !S_ISREG(info.st_mode))
     fail(PLEAT_ERROR_IO, "cannot read '" + path + "': not a regular file");
-  std::string text(static_cast<size_t>(info.st_size), '\0');
+  *size = static_cast<int64_t>(info.st_size);
+  return file;
+}
+
+std::string read_text_file(const std::string& path) {
+  int64_t size = 0;
+  FilePtr file = open_for_reading(path, &size);
+  std::string text(static_cast<size_t>(size), '\0');
   if (!text.empty() && std::fread(text.data(), 1, text.size(), file.get()) != text.size())
     fail(PLEAT_ERROR_IO, "cannot read '" + path + "': " +
                              (std::ferror(file.get()) ? std::strerror(errno) : "the file shrank while read"));

@@ -12,7 +12,7 @@ namespace pleat::nn {
 
 namespace {
 
-constexpr const char* kKind = "graph attention layer";
+constexpr const char* kAttentionKind = "graph attention layer";
 
 const char* variant_name(AttentionVariant v) {
   switch (v) {
@@ -30,7 +30,7 @@ AttentionGraph attention_graph(const Csr& graph) {
   if (n < 0 || graph.offsets.empty() || graph.offsets.front() != 0 ||
       static_cast<size_t>(graph.offsets.back()) != graph.indices.size())
     invalid(
-        kKind, "attention_graph",
+        kAttentionKind, "attention_graph",
         "mesh graph offsets are inconsistent with its " + std::to_string(graph.indices.size()) + " indices");
   AttentionGraph out;
   out.offsets.assign(static_cast<size_t>(n) + 1, 0);
@@ -39,11 +39,12 @@ AttentionGraph attention_graph(const Csr& graph) {
   for (int32_t v = 0; v < n; ++v) {
     const int32_t b = graph.offsets[v], e = graph.offsets[v + 1];
     if (e < b)
-      invalid(kKind, "attention_graph", "mesh graph offsets decrease at vertex " + std::to_string(v));
+      invalid(kAttentionKind, "attention_graph",
+              "mesh graph offsets decrease at vertex " + std::to_string(v));
     row.assign(graph.indices.begin() + b, graph.indices.begin() + e);
     for (int32_t j : row)
       if (j < 0 || j >= n)
-        invalid(kKind, "attention_graph",
+        invalid(kAttentionKind, "attention_graph",
                 "mesh graph vertex " + std::to_string(v) + " has neighbour " + std::to_string(j) +
                     ", expected 0.." + std::to_string(n - 1));
     row.push_back(v);
@@ -58,27 +59,27 @@ AttentionGraph attention_graph(const Csr& graph) {
 
 void GraphAttentionLayer::prepare() {
   if (heads < 1 || heads > kMaxAttentionHeads)
-    invalid(kKind, name,
+    invalid(kAttentionKind, name,
             "heads is " + std::to_string(heads) + ", expected 1.." + std::to_string(kMaxAttentionHeads));
-  if (weight.size() == 0) invalid(kKind, name, "weight is empty");
+  if (weight.size() == 0) invalid(kAttentionKind, name, "weight is empty");
   if (weight.cols() % heads != 0)
-    invalid(kKind, name,
+    invalid(kAttentionKind, name,
             "weight has " + std::to_string(weight.cols()) + " columns, not a multiple of the " +
                 std::to_string(heads) + " heads");
   const Index d = head_width();
-  check_shape(kKind, name, "attention", attention.rows(), attention.cols(), heads, 2 * d);
+  check_shape(kAttentionKind, name, "attention", attention.rows(), attention.cols(), heads, 2 * d);
   if (variant == AttentionVariant::flexigat) {
-    check_shape(kKind, name, "p (flexigat)", 1, p.size(), 1, heads);
-    check_shape(kKind, name, "q (flexigat)", 1, q.size(), 1, heads);
+    check_shape(kAttentionKind, name, "p (flexigat)", 1, p.size(), 1, heads);
+    check_shape(kAttentionKind, name, "q (flexigat)", 1, q.size(), 1, heads);
   }
-  if (bias.size() != 0) check_shape(kKind, name, "bias", 1, bias.size(), 1, out_width());
+  if (bias.size() != 0) check_shape(kAttentionKind, name, "bias", 1, bias.size(), 1, out_width());
   if (!weight.allFinite() || !attention.allFinite() || !bias.allFinite() ||
       (variant == AttentionVariant::flexigat && (!p.allFinite() || !q.allFinite())))
     invalid(
-        kKind, name,
+        kAttentionKind, name,
         std::string("a parameter of the ") + variant_name(variant) + " layer holds a NaN or infinite value");
   if (!(lipschitz_epsilon > 0.0f) && variant == AttentionVariant::lgat)
-    invalid(kKind, name, "lipschitz_epsilon must be > 0");
+    invalid(kAttentionKind, name, "lipschitz_epsilon must be > 0");
 
   const Index width = weight.cols();
   folded.resize(weight.rows(), projected_width());
@@ -251,12 +252,13 @@ void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGr
       layer.neighbour_coefficient.size() != heads || layer.self_norm.size() != heads ||
       layer.neighbour_norm.size() != heads ||
       (layer.bias.size() != 0 && layer.bias.size() != layer.out_width()))
-    invalid(kKind, name, "derived tensors are stale or missing (call prepare() after setting weights)");
+    invalid(kAttentionKind, name,
+            "derived tensors are stale or missing (call prepare() after setting weights)");
   const int32_t n = graph.node_count();
   if (n < 0 || graph.offsets.back() < 0 || static_cast<size_t>(graph.offsets.back()) != graph.sources.size())
-    invalid(kKind, name, "attention graph offsets do not match its sources");
-  check_shape(kKind, name, "input V", v.rows(), v.cols(), n, layer.in_width());
-  check_shape(kKind, name, "output", out.rows(), out.cols(), n, layer.out_width());
+    invalid(kAttentionKind, name, "attention graph offsets do not match its sources");
+  check_shape(kAttentionKind, name, "input V", v.rows(), v.cols(), n, layer.in_width());
+  check_shape(kAttentionKind, name, "output", out.rows(), out.cols(), n, layer.out_width());
   if (n == 0) return;
 
   const Index pw = layer.projected_width();
@@ -267,7 +269,7 @@ void graph_attention_forward(const GraphAttentionLayer& layer, const AttentionGr
   const size_t per_task = attention_scratch_floats(hh, static_cast<size_t>(layer.weight.cols()), graph);
   const size_t needed = (own_projection ? nn * static_cast<size_t>(pw) : 0) + (lipschitz ? nn * hh : 0) +
                         static_cast<size_t>(tasks) * per_task;
-  check_scratch(kKind, name, "GraphAttentionWorkspace", needed, workspace.scratch().capacity());
+  check_scratch(kAttentionKind, name, "GraphAttentionWorkspace", needed, workspace.scratch().capacity());
 
   float* cursor = workspace.scratch().data();
   float* projected = own_projection ? cursor : saved->projected;

@@ -8,19 +8,19 @@ namespace pleat::nn {
 
 namespace {
 
-constexpr const char* kKind = "gru";
+constexpr const char* kGruKind = "gru";
 
 void check_layers(const Gru& gru) {
-  if (gru.layers.empty()) invalid(kKind, gru.name, "has no layers");
+  if (gru.layers.empty()) invalid(kGruKind, gru.name, "has no layers");
   const Index h = gru.hidden_width();
   for (size_t l = 0; l < gru.layers.size(); ++l) {
     const GruLayer& layer = gru.layers[l];
     const std::string p = "layer " + std::to_string(l) + " ";
     const Index in = l == 0 ? gru.input_width() : h;
-    check_shape(kKind, gru.name, (p + "w_ih").c_str(), layer.w_ih.rows(), layer.w_ih.cols(), in, 3 * h);
-    check_shape(kKind, gru.name, (p + "w_hh").c_str(), layer.w_hh.rows(), layer.w_hh.cols(), h, 3 * h);
-    check_shape(kKind, gru.name, (p + "b_ih").c_str(), 1, layer.b_ih.size(), 1, 3 * h);
-    check_shape(kKind, gru.name, (p + "b_hh").c_str(), 1, layer.b_hh.size(), 1, 3 * h);
+    check_shape(kGruKind, gru.name, (p + "w_ih").c_str(), layer.w_ih.rows(), layer.w_ih.cols(), in, 3 * h);
+    check_shape(kGruKind, gru.name, (p + "w_hh").c_str(), layer.w_hh.rows(), layer.w_hh.cols(), h, 3 * h);
+    check_shape(kGruKind, gru.name, (p + "b_ih").c_str(), 1, layer.b_ih.size(), 1, 3 * h);
+    check_shape(kGruKind, gru.name, (p + "b_hh").c_str(), 1, layer.b_hh.size(), 1, 3 * h);
   }
 }
 
@@ -66,33 +66,33 @@ void Gru::validate() const {
   check_layers(*this);
   for (const GruLayer& l : layers)
     if (!l.w_ih.allFinite() || !l.w_hh.allFinite() || !l.b_ih.allFinite() || !l.b_hh.allFinite())
-      invalid(kKind, name, "a weight or bias holds a NaN or infinite value");
+      invalid(kGruKind, name, "a weight or bias holds a NaN or infinite value");
 }
 
 void gru_step(const Gru& gru, ConstMatrixRef x, MatrixRef state, GruWorkspace& workspace) {
   check_layers(gru);
   const Index batch = x.rows(), hw = gru.hidden_width();
-  check_shape(kKind, gru.name, "input x", x.rows(), x.cols(), -1, gru.input_width());
-  check_shape(kKind, gru.name, "state", state.rows(), state.cols(), gru.layer_count() * batch, hw);
-  check_scratch(kKind, gru.name, "GruWorkspace", 6 * static_cast<size_t>(batch * hw),
+  check_shape(kGruKind, gru.name, "input x", x.rows(), x.cols(), -1, gru.input_width());
+  check_shape(kGruKind, gru.name, "state", state.rows(), state.cols(), gru.layer_count() * batch, hw);
+  check_scratch(kGruKind, gru.name, "GruWorkspace", 6 * static_cast<size_t>(batch * hw),
                 workspace.scratch().capacity());
   step_all(gru, x, state, batch, workspace.scratch().data());
 }
 
 void gru_window(const Gru& gru, ConstMatrixRef x, Index steps, MatrixRef out, GruWorkspace& workspace) {
   check_layers(gru);
-  if (steps <= 0) invalid(kKind, gru.name, "window needs at least one step");
+  if (steps <= 0) invalid(kGruKind, gru.name, "window needs at least one step");
   const Index hw = gru.hidden_width();
   if (x.rows() % steps != 0)
-    invalid(kKind, gru.name,
+    invalid(kGruKind, gru.name,
             "input x has " + std::to_string(x.rows()) + " rows, not a multiple of the " +
                 std::to_string(steps) + " steps (expected steps*batch rows, time-major)");
   const Index batch = x.rows() / steps;
-  check_shape(kKind, gru.name, "input x", x.rows(), x.cols(), steps * batch, gru.input_width());
-  check_shape(kKind, gru.name, "output", out.rows(), out.cols(), batch, hw);
+  check_shape(kGruKind, gru.name, "input x", x.rows(), x.cols(), steps * batch, gru.input_width());
+  check_shape(kGruKind, gru.name, "output", out.rows(), out.cols(), batch, hw);
   const size_t gates = 6 * static_cast<size_t>(batch * hw);
-  check_scratch(kKind, gru.name, "GruWorkspace", gates + static_cast<size_t>(gru.layer_count() * batch * hw),
-                workspace.scratch().capacity());
+  check_scratch(kGruKind, gru.name, "GruWorkspace",
+                gates + static_cast<size_t>(gru.layer_count() * batch * hw), workspace.scratch().capacity());
   float* scratch = workspace.scratch().data();
   MatrixMap state = view(scratch + gates, gru.layer_count() * batch, hw);
   state.setZero();

@@ -5,7 +5,7 @@
 namespace pleat::nn {
 
 namespace {
-constexpr const char* kKind = "mlp";
+constexpr const char* kMlpKind = "mlp";
 }
 
 Index Mlp::max_hidden_width() const {
@@ -15,11 +15,11 @@ Index Mlp::max_hidden_width() const {
 }
 
 void Mlp::validate() const {
-  if (layers.empty()) invalid(kKind, name, "has no layers");
+  if (layers.empty()) invalid(kMlpKind, name, "has no layers");
   for (size_t l = 0; l < layers.size(); ++l) {
     layers[l].validate();
     if (l > 0 && layers[l].in_width() != layers[l - 1].out_width())
-      invalid(kKind, name,
+      invalid(kMlpKind, name,
               "layer " + std::to_string(l) + " weight has " + std::to_string(layers[l].in_width()) +
                   " rows, expected " + std::to_string(layers[l - 1].out_width()) +
                   " (the previous layer's output width)");
@@ -27,12 +27,12 @@ void Mlp::validate() const {
 }
 
 void mlp_forward(const Mlp& mlp, ConstMatrixRef x, MatrixRef y, MlpWorkspace& workspace) {
-  if (mlp.layers.empty()) invalid(kKind, mlp.name, "has no layers");
-  check_shape(kKind, mlp.name, "input x", x.rows(), x.cols(), -1, mlp.in_width());
-  check_shape(kKind, mlp.name, "output y", y.rows(), y.cols(), x.rows(), mlp.out_width());
+  if (mlp.layers.empty()) invalid(kMlpKind, mlp.name, "has no layers");
+  check_shape(kMlpKind, mlp.name, "input x", x.rows(), x.cols(), -1, mlp.in_width());
+  check_shape(kMlpKind, mlp.name, "output y", y.rows(), y.cols(), x.rows(), mlp.out_width());
   const Index rows = x.rows();
   const size_t half = static_cast<size_t>(rows) * static_cast<size_t>(mlp.max_hidden_width());
-  check_scratch(kKind, mlp.name, "MlpWorkspace", 2 * half, workspace.scratch().capacity());
+  check_scratch(kMlpKind, mlp.name, "MlpWorkspace", 2 * half, workspace.scratch().capacity());
   float* buffers[2] = {workspace.scratch().data(), workspace.scratch().data() + half};
   const size_t last = mlp.layers.size() - 1;
   for (size_t l = 0; l <= last; ++l) {

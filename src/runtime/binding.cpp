@@ -12,7 +12,7 @@
 namespace pleat::runtime {
 namespace {
 
-[[noreturn]] void bad(const std::string& what) {
+[[noreturn]] void bad_binding(const std::string& what) {
   fail(PLEAT_ERROR_INVALID_ARGUMENT, what);
 }
 
@@ -21,15 +21,15 @@ namespace {
 std::vector<int32_t> map_joints(const Model& model, const Skeleton& body, const std::string& body_source) {
   const ModelSkeleton& s = model.skeleton;
   if (body.joint_count() != s.joint_count())
-    bad("body '" + body_source + "' has " + std::to_string(body.joint_count()) + " joints, model '" +
-        model.source + "' was trained on " + std::to_string(s.joint_count()) +
-        " (retarget the motion onto a body with the model's skeleton)");
+    bad_binding("body '" + body_source + "' has " + std::to_string(body.joint_count()) + " joints, model '" +
+                model.source + "' was trained on " + std::to_string(s.joint_count()) +
+                " (retarget the motion onto a body with the model's skeleton)");
   std::vector<int32_t> map(static_cast<size_t>(s.joint_count()));
   for (int32_t j = 0; j < s.joint_count(); ++j) {
     const int32_t b = body.find(s.joint_names[j]);
     if (b < 0)
-      bad("model joint " + std::to_string(j) + " '" + s.joint_names[j] + "' is not a joint of body '" +
-          body_source + "'");
+      bad_binding("model joint " + std::to_string(j) + " '" + s.joint_names[j] +
+                  "' is not a joint of body '" + body_source + "'");
     map[j] = b;
   }
   for (int32_t j = 0; j < s.joint_count(); ++j) {
@@ -37,10 +37,11 @@ std::vector<int32_t> map_joints(const Model& model, const Skeleton& body, const 
     const int32_t body_parent = body.parents[map[j]];
     const int32_t expected = model_parent < 0 ? -1 : map[model_parent];
     if (body_parent != expected)
-      bad("joint '" + s.joint_names[j] + "' has parent '" +
-          (body_parent < 0 ? std::string("(none)") : body.names[body_parent]) + "' in body '" + body_source +
-          "' but '" + (model_parent < 0 ? std::string("(none)") : s.joint_names[model_parent]) +
-          "' in model '" + model.source + "'");
+      bad_binding("joint '" + s.joint_names[j] + "' has parent '" +
+                  (body_parent < 0 ? std::string("(none)") : body.names[body_parent]) + "' in body '" +
+                  body_source + "' but '" +
+                  (model_parent < 0 ? std::string("(none)") : s.joint_names[model_parent]) + "' in model '" +
+                  model.source + "'");
   }
   return map;
 }
@@ -58,8 +59,8 @@ nn::RowVector shape_vector(const Model& model, const Body& body) {
     const auto it = std::find_if(body.shape.begin(), body.shape.end(),
                                  [&](const ShapeParameter& p) { return p.name == entry.name; });
     if (it == body.shape.end())
-      bad("model '" + model.source + "' reads shape entry '" + entry.name + "', which body '" + body.source +
-          "' does not have");
+      bad_binding("model '" + model.source + "' reads shape entry '" + entry.name + "', which body '" +
+                  body.source + "' does not have");
     beta[i] = static_cast<float>(it->value);
   }
   return beta;
