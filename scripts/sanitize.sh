@@ -27,7 +27,8 @@ esac
 # CI builds this tree from scratch on every run, so it is built for build
 # time: -O1 and line tables only (enough for the sanitizers' stack traces) and
 # unity batches, which parse Eigen's headers once per batch instead of once
-# per file (step time 870 -> 625 CPU s for CI's ASan targets, 2026-12-06).
+# per file (870 -> 591 CPU s for CI's ASan targets; docs/benchmarks.md,
+# 2026-12-06).
 # Unity batches share one scope: a file-local name must be unique within its
 # library (kDenseKind, not kKind).
 CC=clang CXX=clang++ cmake -S "$root" -B "$root/$tree" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
