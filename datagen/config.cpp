@@ -169,6 +169,7 @@ Config parse_config(const std::string& text, const std::string& path) {
       require_file(m, spec.map, "map");
     }
     spec.skip_frames = m.integer("skip_frames", 0, 0, 1000000);
+    spec.take_frames = m.integer("take_frames", 0, 0, 1000000);
     spec.hold_frames = m.integer("hold_frames", 0, 0, 1000000);
     spec.split = m.text("split", "train");
     if (spec.split != "train" && spec.split != "validation" && spec.split != "test")

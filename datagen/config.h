@@ -85,6 +85,7 @@ struct MotionSpec {
   std::string map;          // absolute joint map (io/motion_ops.h format), or empty: equal names
   std::string split;        // "train", "validation" or "test": all its segments go there
   int64_t skip_frames = 0;  // source frames dropped first (CMU cgspeed files open with a reference pose)
+  int64_t take_frames = 0;  // source frames kept after those, 0: to the end (splits one take by time)
   int64_t hold_frames = 0;  // the last pose held this long after the clip (a pose file: a static clip)
   double speed = 1.0;       // playback rate: 1.25 plays the clip 25 % faster (new dynamics, simulated)
   double turn = 0.0;  // deg/s of steady turn about the vertical added to the clip (motion_ops.h turn_motion)

@@ -53,6 +53,7 @@ Json job_identity(const Config& c, const Job& job) {
   if (m.speed != 1.0) identity["speed"] = m.speed;
   if (m.turn != 0.0) identity["turn"] = m.turn;
   if (m.hold_frames != 0) identity["hold_frames"] = m.hold_frames;
+  if (m.take_frames != 0) identity["take_frames"] = m.take_frames;
   return identity;
 }
 
@@ -106,6 +107,7 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   if (motion.speed != 1.0) s["motion_speed"] = motion.speed;
   if (motion.turn != 0.0) s["motion_turn_degrees_per_second"] = motion.turn;
   if (motion.hold_frames != 0) s["motion_hold_frames"] = motion.hold_frames;
+  if (motion.take_frames != 0) s["motion_take_frames"] = motion.take_frames;
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();
   m.simulator_json = s.dump();

@@ -66,7 +66,13 @@ Assets load_assets(const Config& config) {
       fail(PLEAT_ERROR_INVALID_ARGUMENT, "datagen config '" + config.path + "': motion '" + m.name +
                                              "' skips " + std::to_string(m.skip_frames) + " of its " +
                                              std::to_string(source.frame_count) + " frames");
-    source = cut_motion(source, m.skip_frames, source.frame_count - m.skip_frames);
+    const int64_t left = source.frame_count - m.skip_frames;
+    if (m.take_frames > left)
+      fail(PLEAT_ERROR_INVALID_ARGUMENT, "datagen config '" + config.path + "': motion '" + m.name +
+                                             "' takes " + std::to_string(m.take_frames) + " frames after " +
+                                             std::to_string(m.skip_frames) + " of its " +
+                                             std::to_string(source.frame_count) + " (take_frames)");
+    source = cut_motion(source, m.skip_frames, m.take_frames != 0 ? m.take_frames : left);
     source.frame_rate *= m.speed;  // the same poses, reached sooner (or later)
     a.motions.push_back(hold_motion(resample_motion(source, config.frame_rate), m.hold_frames));
     a.maps.push_back(m.map.empty() ? JointMap{} : read_joint_map(m.map));

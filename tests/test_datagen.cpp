@@ -377,6 +377,32 @@ TEST(DatagenInputs, SpeedTimeWarpsTheClip) {
   expect_error([&] { parse_config(text, "c.json"); }, PLEAT_ERROR_FORMAT, "'motions[1].speed' must be in");
 }
 
+// take_frames splits one take by time: the second entry is source frames
+// [120, 360) of the walk, 240 frames at 120 fps, so 60 frames at 30: one
+// segment (and its mirror), the poses of the whole clip from frame 30 (to
+// the millimetre: the file's frame time is 0.0083333 s, not 1/120).
+TEST(DatagenInputs, TakeFramesCutsAClipByTime) {
+  std::string text = with_second_motion("{\"source\": \"" + pleat_test::asset_dir() +
+                                        "/motions/cmu_mb/12_03.bvh\", \"name\": \"12_03_late\", "
+                                        "\"skip_frames\": 120, \"take_frames\": 240}");
+  const Config c = parse_config(text, "/tmp/c.json");
+  ASSERT_EQ(c.motions.size(), 4u);
+  EXPECT_EQ(c.motions[1].take_frames, 240);
+  EXPECT_EQ(c.motions[0].take_frames, 0) << "0: to the clip's end";
+  const Assets a = load_assets(c);
+  const Motion &whole = a.motions[0], &late = a.motions[1];
+  ASSERT_EQ(late.frame_count, 60);
+  for (int64_t k : {int64_t{0}, int64_t{59}}) {
+    EXPECT_NEAR((late.root_translation.row(k) - whole.root_translation.row(30 + k)).norm(), 0.0, 1e-3) << k;
+    for (size_t j = 0; j < late.skeleton.names.size(); ++j)
+      EXPECT_NEAR(late.frame(k)[j].angularDistance(whole.frame(30 + k)[j]), 0.0, 1e-3) << k << " " << j;
+  }
+  EXPECT_EQ(clip_segments(c, 1, late.frame_count).size(), 2u) << "one segment and its mirror";
+  text.replace(text.find("\"take_frames\": 240"), 18, "\"take_frames\": 999");
+  expect_error([&] { load_assets(parse_config(text, "/tmp/c.json")); }, PLEAT_ERROR_INVALID_ARGUMENT,
+               "motion '12_03_late' takes 999 frames after 120 of its 566 (take_frames)");
+}
+
 // A single-frame MakeHuman pose, mapped onto the body's rig and held: a
 // static clip of 1 + hold_frames frames, cut into segments like any clip of
 // that length.

@@ -1,7 +1,5 @@
 #include "io/point_cache.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
