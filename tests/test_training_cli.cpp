@@ -60,6 +60,8 @@ void train_tiny_model(const std::string& root) {
                 "blend_widths": [8, 3], "refinement_widths": [8, 3]}})";
   std::string text;
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
+  // Without a validation split the run keeps its last epoch and says so (no E_verts of 0).
+  EXPECT_NE(text.find("epoch 1, the last (no validation split to choose by)"), std::string::npos) << text;
 }
 
 }  // namespace
@@ -77,6 +79,12 @@ TEST(TrainingCli, TrainWritesAModelAndExportRewritesIt) {
   std::string text;
   ASSERT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json 2>&1", &text), 0) << text;
   EXPECT_NE(text.find("trained 3 epochs"), std::string::npos) << text;
+  EXPECT_NE(text.find("validation E_verts"), std::string::npos) << text;
+  // A misspelt option is refused, not ignored; --help is usage on stdout.
+  EXPECT_EQ(pleat_test::run_command(cli() + " train " + root + "/config.json --epoch 5 2>&1", &text), 2);
+  EXPECT_NE(text.find("unknown or incomplete option '--epoch'"), std::string::npos) << text;
+  EXPECT_EQ(pleat_test::run_command(cli() + " train --help 2>/dev/null", &text), 0);
+  EXPECT_NE(text.find("usage: pleat-train train config.json"), std::string::npos) << text;
   EXPECT_EQ(lines(root + "/run/log.csv"), 4) << "a header and one row per epoch";
   const auto trained = pleat::runtime::load_model_file(root + "/run/model.pleat");
   EXPECT_EQ(trained->code_width(), 16);

@@ -227,13 +227,16 @@ EpochResult Trainer::train_epoch() {
   for (auto& [name, t] : r.terms) t.loss /= double(frames);
   r.validation = validation_.sequences().empty() ? MetricsResult{} : validate(validation_);
   last_validation_ = r.validation;
-  if (config_.progress)
+  if (config_.progress) {
+    char validation[64] = "no validation split";
+    if (!validation_.sequences().empty())
+      std::snprintf(validation, sizeof validation, "validation %.3f cm (LBS %.3f)", r.validation.e_verts_cm,
+                    validation_lbs_.e_verts_cm);
     std::fprintf(stderr,
-                 "\repoch %lld/%lld %-16s loss %.4f  E_verts train %.3f cm (LBS %.3f), validation %.3f cm "
-                 "(LBS %.3f)  %.1f frames/s\n",
+                 "\repoch %lld/%lld %-16s loss %.4f  E_verts train %.3f cm (LBS %.3f), %s  %.1f frames/s\n",
                  static_cast<long long>(r.epoch), static_cast<long long>(config_.epochs), r.phase.c_str(),
-                 r.loss, r.train_e_verts_cm, train_lbs_.e_verts_cm, r.validation.e_verts_cm,
-                 validation_lbs_.e_verts_cm, r.frames_per_second);
+                 r.loss, r.train_e_verts_cm, train_lbs_.e_verts_cm, validation, r.frames_per_second);
+  }
   ++epoch_;
   schedule_.end_epoch(validation_.sequences().empty() ? r.train_e_verts_cm : r.validation.e_verts_cm, r.loss);
   return r;

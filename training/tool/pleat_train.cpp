@@ -69,20 +69,25 @@ const char* kUsage =
 int train(int argc, char** argv) {
   if (argc < 3) throw std::invalid_argument("train needs a config file");
   pleat::training::TrainerConfig config = pleat::training::read_trainer_config(argv[2]);
-  for (int i = 3; i + 1 < argc; i += 2)
-    if (std::strcmp(argv[i], "--epochs") == 0) config.epochs = std::stoll(argv[i + 1]);
+  for (int i = 3; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--epochs") == 0 && i + 1 < argc)
+      config.epochs = std::stoll(argv[++i]);
+    else
+      throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
+  }
   pleat::training::Trainer trainer(config);
   if (trainer.epoch() > 0)
     std::fprintf(stderr, "resuming %s at epoch %lld\n", config.output.c_str(),
                  static_cast<long long>(trainer.epoch()));
-  const pleat::training::EpochResult r = trainer.run();
+  trainer.run();
   const std::string out = config.output + "/model.pleat";
   pleat::runtime::save_model(*trainer.export_model(), out);
-  const bool kept = trainer.best_epoch() > 0;
-  std::printf("trained %lld epochs; wrote %s: epoch %lld, validation E_verts %.3f cm\n",
-              static_cast<long long>(trainer.epoch()), out.c_str(),
-              static_cast<long long>(trainer.exported_epoch()),
-              kept ? trainer.best_validation().e_verts_cm : r.validation.e_verts_cm);
+  std::printf("trained %lld epochs; wrote %s: epoch %lld, ", static_cast<long long>(trainer.epoch()),
+              out.c_str(), static_cast<long long>(trainer.exported_epoch()));
+  if (trainer.best_epoch() > 0)
+    std::printf("validation E_verts %.3f cm\n", trainer.best_validation().e_verts_cm);
+  else
+    std::printf("the last (no validation split to choose by)\n");
   return 0;
 }
 
@@ -503,6 +508,11 @@ int bench(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   const std::string command = argc > 1 ? argv[1] : "";
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
   try {
     if (command == "train") return train(argc, argv);
     if (command == "export") return export_model(argc, argv);
