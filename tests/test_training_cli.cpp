@@ -705,3 +705,41 @@ TEST(TrainingCli, ImportSequencesFromPc2CachesTrainsEndToEnd) {
     EXPECT_FALSE(std::filesystem::exists(out + "/splits.json")) << out;
   }
 }
+
+TEST(TrainingCli, FitPhysicsReportsTheForceBalanceOfASplit) {
+  const std::string root = pleat_test::temp_dir("training_fit_physics");
+  pleat_test::write_skirt_walk(root);
+  std::ofstream(root + "/schedule.json") << R"({"phases": [{"name": "s", "weights": {"vertex": 100}}]})";
+  std::ofstream(root + "/config.json")
+      << R"({"train": ["skirt_walk"], "schedule": "schedule.json", "output": "run"})";
+  const std::string trainer = std::filesystem::path(cli()).parent_path().string() + "/pleat-train";
+  std::string text;
+  ASSERT_EQ(pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --stride 5 2>&1", &text),
+            0)
+      << text;
+  // Frames 2, 7, ..., 27 of the 31-frame walk.
+  EXPECT_NE(text.find("6 frames of the train split"), std::string::npos) << text;
+  double free_fit = 0, held = 0, alone = 0;
+  const size_t at = text.find("force residual");
+  ASSERT_NE(at, std::string::npos) << text;
+  ASSERT_EQ(
+      std::sscanf(text.c_str() + at,
+                  "force residual |m a - sum k f| / |m a|: %lf free fit, %lf with gravity held at 1, %lf",
+                  &free_fit, &held, &alone),
+      3)
+      << text;
+  // Least squares: no fit is worse than the weights it could have chosen (0; gravity alone).
+  EXPECT_LE(free_fit, 1.0 + 1e-9);
+  EXPECT_LE(held, alone + 1e-9);
+  EXPECT_NE(text.find("{\"inertia\": 1, \"bending\": "), std::string::npos) << text;
+
+  EXPECT_EQ(
+      pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --split tset 2>&1", &text), 2);
+  EXPECT_NE(text.find("--split must be train, validation or test, got 'tset'"), std::string::npos) << text;
+  // Every vertex within 10 m of the body: nothing free to fit.
+  EXPECT_EQ(pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --contact-cm 1000 2>&1",
+                                    &text),
+            1);
+  EXPECT_NE(text.find("no frame after the second with a vertex away from the body"), std::string::npos)
+      << text;
+}

@@ -9,17 +9,13 @@
 #include "core/box_tree.h"
 #include "core/nearest_points.h"
 #include "metrics/curvature.h"
+#include "tensors.h"
 
 namespace pleat::training {
 namespace {
 
 torch::Tensor long_tensor(const std::vector<int64_t>& values, int64_t cols) {
   return torch::tensor(values, torch::kInt64).view({-1, cols});
-}
-
-Points3d points_of(const torch::Tensor& x) {  // N x 3, detached
-  const torch::Tensor c = x.detach().to(torch::kFloat64).contiguous();
-  return Eigen::Map<const Points3d>(c.data_ptr<double>(), c.size(0), 3);
 }
 
 // Signed dihedral angle of hinges (a, b, c, d): faces (a, b, c) and (a, b, d).
@@ -258,6 +254,12 @@ torch::Tensor self_collision_loss(const GarmentGeometry& g, const torch::Tensor&
       (flat.index_select(0, torch::tensor(first)) - flat.index_select(0, torch::tensor(second))).norm(2, -1) *
       100.0;
   return torch::exp(-lambda * d).mean();
+}
+
+torch::Tensor inertia_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& previous,
+                           const torch::Tensor& before, double frame_rate) {
+  const torch::Tensor second_difference = (x - 2 * previous + before).pow(2).sum(-1);
+  return (g.masses.to(x.dtype()) * second_difference).sum(-1).mean() * (0.5 * frame_rate * frame_rate);
 }
 
 torch::Tensor gravity_loss(const GarmentGeometry& g, const torch::Tensor& x) {

@@ -108,6 +108,16 @@ torch::Tensor collision_loss(const torch::Tensor& x, const torch::Tensor& body,
 torch::Tensor self_collision_loss(const GarmentGeometry& g, const torch::Tensor& x, double lambda = 8.0,
                                   double threshold_cm = 2.0);
 
+// The inertia term of one implicit-Euler step (SNUG, HOOD): mean over frames of
+// Σ_i m_i |x_i - 2 p_i + q_i|² / (2 h²), with p, q the positions one and two
+// frames before and h = 1 / frame_rate (J). With gravity and the elastic
+// terms it is the incremental potential whose minimum is the next frame of
+// a simulation; fit_physics (physics_fit.h) asks whether a simulator's
+// frames are such minima. No schedule weighs it (decision 0027).
+// x, previous, before: B x N x 3.
+torch::Tensor inertia_loss(const GarmentGeometry& g, const torch::Tensor& x, const torch::Tensor& previous,
+                           const torch::Tensor& before, double frame_rate);
+
 // Gravitational potential relative to the rest pose: Σ_i m_i 9.81 (y_i - ȳ_i) (J).
 torch::Tensor gravity_loss(const GarmentGeometry& g, const torch::Tensor& x);
 

@@ -20,4 +20,9 @@ nn::RowVector to_row(const torch::Tensor& t) {
   return Eigen::Map<const nn::RowVector>(c.data_ptr<float>(), c.numel());
 }
 
+Points3d points_of(const torch::Tensor& x) {
+  const torch::Tensor c = x.detach().to(torch::kFloat64).contiguous();
+  return Eigen::Map<const Points3d>(c.data_ptr<double>(), c.size(0), 3);
+}
+
 }  // namespace pleat::training

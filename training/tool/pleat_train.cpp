@@ -22,6 +22,10 @@
 //                                                one `summary:` line per model and split;
 //                                                --errors: each sequence's vertex distance per
 //                                                frame and per vertex as CSV in DIR/<split>/
+//   pleat-train fit-physics config.json [--split train] [--stride N] [--contact-cm C]
+//                                                the physics terms' weights that best balance the
+//                                                forces of the split's simulated frames
+//                                                (physics_fit.h), for a self-supervised schedule
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
 //                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
 //                                                run time against error on one split: the runtime
@@ -49,6 +53,7 @@
 #include "io/atomic_file.h"
 #include "io/contact_sheet.h"
 #include "io/sequence.h"
+#include "physics_fit.h"
 #include "runtime/model_file.h"
 #include "trainer.h"
 
@@ -64,6 +69,7 @@ const char* kUsage =
     "[-o report.md]\n"
     "       pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N] "
     "[--repeats N] [--no-libtorch] [--against-blender datagen.json]\n"
+    "       pleat-train fit-physics config.json [--split train] [--stride N] [--contact-cm C]\n"
     "config.json: docs/training.md\n";
 
 int train(int argc, char** argv) {
@@ -504,6 +510,48 @@ int bench(int argc, char** argv) {
   return 0;
 }
 
+int fit_physics(int argc, char** argv) {
+  if (argc < 3) throw std::invalid_argument("fit-physics needs a config file");
+  const pleat::training::TrainerConfig config = pleat::training::read_trainer_config(argv[2]);
+  std::string split = "train";
+  int64_t stride = 1;
+  double contact_cm = 2.0;
+  for (int i = 3; i < argc; ++i) {
+    const bool value = i + 1 < argc;
+    if (std::strcmp(argv[i], "--split") == 0 && value)
+      split = argv[++i];
+    else if (std::strcmp(argv[i], "--stride") == 0 && value)
+      stride = std::stoll(argv[++i]);
+    else if (std::strcmp(argv[i], "--contact-cm") == 0 && value)
+      contact_cm = std::stod(argv[++i]);
+    else
+      throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
+  }
+  const std::vector<std::string>* dirs = split == "train"        ? &config.train
+                                         : split == "validation" ? &config.validation
+                                         : split == "test"       ? &config.test
+                                                                 : nullptr;
+  if (!dirs) throw std::invalid_argument("--split must be train, validation or test, got '" + split + "'");
+  if (stride < 1) throw std::invalid_argument("--stride must be >= 1");
+  const pleat::training::PhysicsFit fit =
+      pleat::training::fit_physics(pleat::training::Dataset(*dirs), stride, contact_cm);
+  std::printf("%lld frames of the %s split, %lld free vertex coordinates (over %.1f cm from the body)\n",
+              static_cast<long long>(fit.frames), split.c_str(), static_cast<long long>(fit.rows),
+              contact_cm);
+  std::printf(
+      "force residual |m a - sum k f| / |m a|: %.3f free fit, %.3f with gravity held at 1, %.3f with "
+      "gravity alone\n",
+      fit.residual, fit.elastic_residual, fit.gravity_only_residual);
+  const auto print = [](const char* what, const std::map<std::string, double>& weights) {
+    std::printf("%s\n  {\"inertia\": 1", what);
+    for (const auto& [name, k] : weights) std::printf(", \"%s\": %.6g", name.c_str(), k);
+    std::printf("}\n");
+  };
+  print("free fit (gravity is 1 where the simulator's forces are these terms'):", fit.weights);
+  print("gravity held at 1 (schedule \"weights\" per unit inertia weight):", fit.elastic_weights);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -520,6 +568,7 @@ int main(int argc, char** argv) {
     if (command == "baseline") return evaluate(argc, argv);  // evaluate without a model
     if (command == "evaluate") return evaluate(argc, argv);
     if (command == "bench") return bench(argc, argv);
+    if (command == "fit-physics") return fit_physics(argc, argv);
     std::fputs(kUsage, stderr);
     return 2;
   } catch (const pleat::Error& e) {
