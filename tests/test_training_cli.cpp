@@ -372,6 +372,24 @@ TEST(TrainingCli, EvaluateScoresEverySplitOfADataSet) {
     EXPECT_NEAR(column_mean(frames, 1 + k), expected[k], 6e-4) << header;
     EXPECT_NEAR(column_mean(vertices, 4 + k), expected[k], 6e-4) << header;
   }
+  // Each prediction's cache in garment.obj's vertex order: its distance to
+  // the simulated garment.pc2 is the sequence's E_verts again.
+  for (const auto& [column, e_verts] : {std::pair<std::string, double>{"lbs", lbs}, {"model", expected[2]}}) {
+    const std::string path = root + "/errors/test/skirt_walk_" + column + ".pc2";
+    const pleat::CacheHeader cache = pleat::read_cache_header(path, pleat::CacheFormat::pc2);
+    ASSERT_EQ(cache.frame_count, 31) << path;
+    ASSERT_EQ(cache.vertex_count, walk_sequence.garment_rest.vertex_count()) << path;
+    EXPECT_DOUBLE_EQ(cache.frame_rate, 30.0);
+    std::vector<float> predicted(walk_sequence.garment_frames.size());
+    pleat::read_cache(path, pleat::CacheFormat::pc2, predicted.data(), 0, predicted.size());
+    double sum = 0.0;
+    for (size_t p = 0; p < predicted.size(); p += 3)
+      sum += 100.0 * Eigen::Vector3d(predicted[p] - walk_sequence.garment_frames[p],
+                                     predicted[p + 1] - walk_sequence.garment_frames[p + 1],
+                                     predicted[p + 2] - walk_sequence.garment_frames[p + 2])
+                         .norm();
+    EXPECT_NEAR(sum / double(predicted.size() / 3), e_verts, 6e-4) << path;
+  }
   const auto fast_frames = read_csv(root + "/errors/test/skirt_fast_frames.csv", &header);
   ASSERT_EQ(fast_frames.size(), 31u);
   EXPECT_EQ(fast_frames[0].at(2), "") << "no twin, no floor";

@@ -1,12 +1,14 @@
 #include "error_maps.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
 #include "capi/pleat.h"
 #include "core/error.h"
 #include "io/atomic_file.h"
+#include "io/point_cache.h"
 
 namespace pleat::training {
 
@@ -24,6 +26,13 @@ VertexErrors vertex_errors(const TrainingSequence& s, const float* predicted) {
       e.per_frame[static_cast<size_t>(f)] += cm / double(n);
       e.per_vertex[static_cast<size_t>(v)] += cm / double(frames);
     }
+  const std::vector<int32_t>& source = s.garment->source_vertex;
+  e.frames.resize(static_cast<size_t>(frames) * source.size() * 3);
+  for (int64_t f = 0; f < frames; ++f)
+    for (size_t i = 0; i < source.size(); ++i)
+      for (int k = 0; k < 3; ++k)
+        e.frames[(static_cast<size_t>(f) * source.size() + i) * 3 + k] =
+            predicted[(f * n + source[i]) * 3 + k];
   return e;
 }
 
@@ -81,6 +90,14 @@ void write_error_maps(const Dataset& data, const std::vector<SequenceErrors>& er
       prefix[static_cast<size_t>(v)] = rest;
     }
     write_csv(stem + "_vertices.csv", "vertex,rest_x,rest_y,rest_z," + header, prefix, columns, false);
+    const auto write_frames = [&](std::string column, const VertexErrors& c) {
+      std::replace(column.begin(), column.end(), '/', '_');  // a label "run/model" names no folder
+      write_cache(stem + "_" + column + ".pc2", CacheFormat::pc2, c.frames.data(),
+                  static_cast<size_t>(frames), s.garment->source_vertex.size(), 0, s.meta.frame_rate,
+                  nullptr);
+    };
+    write_frames("lbs", e.lbs);
+    for (size_t m = 0; m < e.models.size(); ++m) write_frames(model_names[m], e.models[m]);
   }
 }
 

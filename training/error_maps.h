@@ -18,6 +18,9 @@ namespace pleat::training {
 struct VertexErrors {
   std::vector<double> per_frame;   // frame_count values: the mean over the vertices
   std::vector<double> per_vertex;  // N values: the mean over the frames
+  // The prediction itself in garment.obj's vertex order (frame_count x
+  // source vertices x 3), so its cache loads onto the sequence's garment.obj.
+  std::vector<float> frames;
 };
 VertexErrors vertex_errors(const TrainingSequence& s, const float* predicted);
 
@@ -34,7 +37,9 @@ struct SequenceErrors {
 // column names), writes <dir>/<sequence>_frames.csv (frame, lbs_cm,
 // noise_floor_cm, <model>_cm...) and <dir>/<sequence>_vertices.csv (vertex,
 // rest_x, rest_y, rest_z in metres, then the same columns), each atomically;
-// noise_floor_cm is empty where the sequence has no twin.
+// noise_floor_cm is empty where the sequence has no twin; and each
+// prediction as <dir>/<sequence>_<column>.pc2 (lbs and each model, not the
+// twin: its own folder holds it), to play back against garment.pc2.
 void write_error_maps(const Dataset& data, const std::vector<SequenceErrors>& errors,
                       const std::vector<std::string>& model_names, const std::string& dir);
 

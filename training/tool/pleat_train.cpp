@@ -21,11 +21,13 @@
 //                                                --by-sequence: per sequence; then
 //                                                one `summary:` line per model and split;
 //                                                --errors: each sequence's vertex distance per
-//                                                frame and per vertex as CSV in DIR/<split>/
+//                                                frame and per vertex as CSV in DIR/<split>/,
+//                                                and LBS's and each model's frames as PC2
 //   pleat-train fit-physics config.json [--split train] [--stride N] [--contact-cm C]
 //                                                the physics terms' weights that best balance the
 //                                                forces of the split's simulated frames
-//                                                (physics_fit.h), for a self-supervised schedule
+//                                                (physics_fit.h): do the losses describe the
+//                                                simulator?
 //   pleat-train bench config.json --model M.pleat -o DIR [--split test] [--threads N]
 //                     [--repeats N] [--no-libtorch] [--against-blender datagen.json]
 //                                                run time against error on one split: the runtime
