@@ -753,7 +753,10 @@ TEST(TrainingCli, FitPhysicsReportsTheForceBalanceOfASplit) {
 
   EXPECT_EQ(
       pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --split tset 2>&1", &text), 2);
-  EXPECT_NE(text.find("--split must be train, validation or test, got 'tset'"), std::string::npos) << text;
+  EXPECT_NE(text.find("--split takes train, validation and test, not 'tset'"), std::string::npos) << text;
+  EXPECT_EQ(
+      pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --split test 2>&1", &text), 2);
+  EXPECT_NE(text.find("the config's test split has no sequences"), std::string::npos) << text;
   // Every vertex within 10 m of the body: nothing free to fit.
   EXPECT_EQ(pleat_test::run_command(trainer + " fit-physics " + root + "/config.json --contact-cm 1000 2>&1",
                                     &text),

@@ -54,7 +54,7 @@ PhysicsFit PhysicsFitter::solve() const {
     fail(PLEAT_ERROR_INVALID_ARGUMENT,
          "fit_physics: no frame after the second with a vertex away from the body");
   using Vector = Eigen::Matrix<double, kColumns, 1>;
-  // |A k|² / |A e_0|² for a weight vector k (inertia first) from the normal equations.
+  // |A k| / |A e_0| for a weight vector k (inertia first), from the normal equations.
   const auto residual = [&](const Vector& k) {
     return std::sqrt(std::max(0.0, k.dot(normal_ * k)) / normal_(0, 0));
   };

@@ -529,14 +529,11 @@ int fit_physics(int argc, char** argv) {
     else
       throw std::invalid_argument(std::string("unknown or incomplete option '") + argv[i] + "'");
   }
-  const std::vector<std::string>* dirs = split == "train"        ? &config.train
-                                         : split == "validation" ? &config.validation
-                                         : split == "test"       ? &config.test
-                                                                 : nullptr;
-  if (!dirs) throw std::invalid_argument("--split must be train, validation or test, got '" + split + "'");
+  const std::vector<std::string>& dirs = split_folders(config, split, "--split");
+  if (dirs.empty()) throw std::invalid_argument("the config's " + split + " split has no sequences");
   if (stride < 1) throw std::invalid_argument("--stride must be >= 1");
   const pleat::training::PhysicsFit fit =
-      pleat::training::fit_physics(pleat::training::Dataset(*dirs), stride, contact_cm);
+      pleat::training::fit_physics(pleat::training::Dataset(dirs), stride, contact_cm);
   std::printf("%lld frames of the %s split, %lld free vertex coordinates (over %.1f cm from the body)\n",
               static_cast<long long>(fit.frames), split.c_str(), static_cast<long long>(fit.rows),
               contact_cm);
