@@ -6,9 +6,9 @@
 // of the weighted terms' forces. Over the free vertices of many frames (away
 // from the body, whose contact force no term models), the weights that make
 // the simulated frames most nearly stationary are a linear least-squares fit.
-// Self-supervised training (inertia on unsimulated motion) needs them: a
-// physics term with the wrong stiffness pulls the cloth away from what the
-// simulator would do.
+// Self-supervised training (inertia on unsimulated motion) would need
+// them: a physics term with the wrong stiffness pulls the cloth away from
+// what the simulator would do (decision 0027).
 #include <torch/torch.h>
 
 #include <Eigen/Core>
@@ -27,7 +27,7 @@ struct PhysicsFit {
   // gravity and masses agree with the losses').
   std::map<std::string, double> weights;
   // The same with gravity held at 1, the physical value: the elastic
-  // weights a self-supervised schedule should use.
+  // weights that match the simulator, where the residual says they do.
   std::map<std::string, double> elastic_weights;
   // |m a - Σ k f| / |m a| over the rows fitted: free fit, gravity held at 1,
   // and gravity alone (the elastic terms 0: free fall).

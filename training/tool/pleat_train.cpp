@@ -547,7 +547,8 @@ int fit_physics(int argc, char** argv) {
     std::printf("}\n");
   };
   print("free fit (gravity is 1 where the simulator's forces are these terms'):", fit.weights);
-  print("gravity held at 1 (schedule \"weights\" per unit inertia weight):", fit.elastic_weights);
+  print("gravity held at 1 (the weights that match the simulator, if its residual is small):",
+        fit.elastic_weights);
   return 0;
 }
 
