@@ -555,7 +555,7 @@ TEST(TrainingCli, BenchMeasuresEverySettingAgainstTheGroundTruth) {
 
 // "dataset" may name several sets: their splits are joined in order, and
 // every set's twins are kept (extra training clips beside the set that holds
-// validation and test).
+// validation and test); an entry may take only some of its set's splits.
 TEST(TrainingCli, ADataSetListJoinsTheSplits) {
   const std::string root = pleat_test::temp_dir("training_dataset_list");
   std::filesystem::create_directories(root + "/main");
@@ -573,6 +573,25 @@ TEST(TrainingCli, ADataSetListJoinsTheSplits) {
   EXPECT_EQ(c.test, std::vector<std::string>{root + "/main/t"});
   ASSERT_EQ(c.twins.size(), 1u);
   EXPECT_EQ(c.twins.at(root + "/main/t"), root + "/main/t.twin");
+  // {"name", "splits"} takes only the named splits: extra's training clips
+  // join, its validation, test and twins stay out.
+  std::ofstream(root + "/extra/splits.json")
+      << R"({"train": ["c"], "validation": ["w"], "test": ["u"], "twins": {"u": "u.twin"}})";
+  std::ofstream(root + "/selected.json") << R"({"dataset": ["main", {"name": "extra", "splits": ["train"]}],
+      "schedule": "schedule.json", "output": "run"})";
+  const pleat::training::TrainerConfig s = pleat::training::read_trainer_config(root + "/selected.json");
+  EXPECT_EQ(s.train, c.train);
+  EXPECT_EQ(s.validation, c.validation);
+  EXPECT_EQ(s.test, c.test);
+  EXPECT_EQ(s.twins, c.twins);
+  std::ofstream(root + "/misspelt.json") << R"({"dataset": ["main", {"name": "extra", "splits": ["tran"]}],
+      "schedule": "schedule.json", "output": "run"})";
+  try {
+    pleat::training::read_trainer_config(root + "/misspelt.json");
+    ADD_FAILURE() << "a misspelt split is refused";
+  } catch (const pleat::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'tran'"), std::string::npos) << e.what();
+  }
   std::ofstream(root + "/missing.json")
       << R"({"dataset": ["main", "nowhere"], "schedule": "schedule.json", "output": "run"})";
   try {

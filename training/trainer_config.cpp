@@ -1,5 +1,6 @@
 #include "trainer_config.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -69,9 +70,23 @@ TrainerConfig read_trainer_config(const std::string& path) {
           (j.contains("dataset") && j.contains("dataset_name")))
         bad_config(path, "give either \"dataset\" or \"dataset_name\", or the train/validation/test lists");
       // One data set, or a list whose splits are joined (e.g. a set of extra
-      // training clips next to the set that holds validation and test).
+      // training clips next to the set that holds validation and test). An
+      // entry {"name": set, "splits": [...]} takes only the splits it names,
+      // so another set's training sequences can join without its test clips.
       const Json& named = j.contains("dataset") ? j["dataset"] : j["dataset_name"];
-      for (const Json& name : named.is_array() ? named : Json::array({named})) {
+      for (const Json& entry : named.is_array() ? named : Json::array({named})) {
+        const Json& name = entry.is_object() ? entry.at("name") : entry;
+        std::vector<std::string> taken = {"train", "validation", "test"};
+        if (entry.is_object() && entry.contains("splits")) {
+          taken = entry["splits"].get<std::vector<std::string>>();
+          for (const std::string& split : taken)
+            if (split != "train" && split != "validation" && split != "test")
+              bad_config(path, "data set '" + name.get<std::string>() +
+                                   "': splits must name train, validation or test, got '" + split + "'");
+        }
+        const auto takes = [&](const std::string& split) {
+          return std::find(taken.begin(), taken.end(), split) != taken.end();
+        };
         std::filesystem::path root;
         if (j.contains("dataset")) {
           root = name.get<std::string>();
@@ -87,10 +102,11 @@ TrainerConfig read_trainer_config(const std::string& path) {
         const std::pair<const char*, std::vector<std::string>*> lists[] = {
             {"train", &c.train}, {"validation", &c.validation}, {"test", &c.test}};
         for (const auto& [split, list] : lists) {
+          if (!takes(split)) continue;
           const std::vector<std::string> more = folders(splits.at(split), root);
           list->insert(list->end(), more.begin(), more.end());
         }
-        if (splits.contains("twins"))
+        if (takes("test") && splits.contains("twins"))
           for (const auto& [sequence, twin] : splits["twins"].items())
             c.twins[(root / sequence).string()] = (root / twin.get<std::string>()).string();
       }
