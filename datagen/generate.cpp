@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -364,29 +365,50 @@ GenerateReport generate(const Config& config, const GenerateOptions& options) {
 
   std::atomic<size_t> next{0};
   std::atomic<int> finished{0};
-  std::mutex mutex;  // guards `running` and the outcome lines
+  std::mutex mutex;                 // guards `running`, the outcomes being written and the outcome lines
+  std::condition_variable settled;  // a job of this run has its outcome
   Running running(static_cast<size_t>(options.jobs));
   const bool tty = isatty(STDERR_FILENO);
+  // A twin is worth simulating only beside its accepted original. Twins come
+  // after every other job, so the original was taken first: wait for it.
+  const auto original_unaccepted = [&](const Job& twin) -> const SequenceOutcome* {
+    const auto j =
+        std::find_if(jobs.begin(), jobs.end(), [&](const Job& job) { return job.name == twin.twin_of; });
+    if (j == jobs.end()) return nullptr;
+    const SequenceOutcome& o = outcomes[static_cast<size_t>(j - jobs.begin())];
+    std::unique_lock<std::mutex> lock(mutex);
+    settled.wait(lock, [&] { return !o.status.empty(); });
+    return o.status == "done" || o.status == "kept" ? nullptr : &o;
+  };
   const auto worker = [&](size_t slot) {
     for (size_t k; (k = next++) < todo.size();) {
       const size_t i = todo[k];
       SequenceOutcome& o = outcomes[i];
       const auto t0 = std::chrono::steady_clock::now();
-      {
-        std::lock_guard<std::mutex> lock(mutex);
-        running[slot] = {jobs[i].name, {0, 0}};
+      SequenceOutcome result = o;
+      if (const SequenceOutcome* original =
+              jobs[i].twin_of.empty() ? nullptr : original_unaccepted(jobs[i])) {
+        result.status = "skipped";
+        result.message = "its original was " + original->status + ", so a twin measures nothing";
+      } else {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          running[slot] = {jobs[i].name, {0, 0}};
+        }
+        simulate(
+            settings(jobs[i]), assets, jobs[i], hashes[i], out, options,
+            [&](int64_t done, int64_t total) {
+              std::lock_guard<std::mutex> lock(mutex);
+              running[slot].second = {done, total};
+            },
+            &result);
       }
-      simulate(
-          settings(jobs[i]), assets, jobs[i], hashes[i], out, options,
-          [&](int64_t done, int64_t total) {
-            std::lock_guard<std::mutex> lock(mutex);
-            running[slot].second = {done, total};
-          },
-          &o);
-      o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::lock_guard<std::mutex> lock(mutex);
+      o = std::move(result);  // published under the lock: a twin may be waiting for it
       running[slot] = {"", {0, 0}};
       ++finished;
+      settled.notify_all();
       if (options.progress) {
         if (tty) std::fprintf(stderr, "\r\033[K");
         std::fprintf(stderr, "%-8s %s (%s, %.0f s%s%s)\n", o.status.c_str(), o.name.c_str(), o.split.c_str(),

@@ -23,7 +23,9 @@ struct GenerateOptions {
 
 struct SequenceOutcome {
   std::string name, split;
-  std::string status;  // "done" (this run), "kept" (earlier run), "rejected", "failed", "planned" (dry run)
+  // "done" (this run), "kept" (earlier run), "rejected", "failed", "planned" (dry run), "skipped" (not
+  // matched by --only, or a twin whose original was not accepted)
+  std::string status;
   std::string message;
   double seconds = 0;
   CheckReport check;

@@ -167,6 +167,40 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
   EXPECT_FALSE(sequence_complete(seq)) << "a rejected simulation leaves no complete folder";
 }
 
+// A twin measures the noise of its original: it is simulated only once the
+// original is accepted, in the same run or a later one.
+TEST(DatagenBlender, TwinWaitsForItsOriginal) {
+  const std::string dir = pleat_test::temp_dir("datagen_twin");
+  const std::string wrapper = dir + "/blender.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\necho call >> '" << dir << "/calls'\nif [ -e '" << dir
+                         << "/fail' ]; then echo simulated crash; exit 1; fi\nexec blender \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all);
+  std::ofstream(dir + "/fail") << "1";
+  const std::string text = pleat_test::skirt_datagen_config(
+      dir, "\"blender\": \"" + wrapper + "\", \"twins\": {\"split\": \"train\", \"extra_rest_frames\": 2},",
+      "[{\"name\": \"plain\"}]", "{\"train\": 1}");
+  const Config config = parse_config(text, dir + "/config.json");
+  GenerateOptions options;
+  options.progress = false;
+  options.jobs = 2;  // the twin is taken while its original still runs
+
+  GenerateReport r = generate(config, options);
+  ASSERT_EQ(r.sequences.size(), 2u);
+  EXPECT_EQ(r.sequences[0].status, "failed");
+  EXPECT_EQ(r.sequences[1].name, r.sequences[0].name + ".twin");
+  EXPECT_EQ(r.sequences[1].status, "skipped");
+  EXPECT_NE(r.sequences[1].message.find("original was failed"), std::string::npos) << r.sequences[1].message;
+  EXPECT_EQ(invocations(dir), 1) << "the twin of a failed sequence is not simulated";
+
+  fs::remove(dir + "/fail");
+  r = generate(config, options);
+  ASSERT_EQ(r.sequences[0].status, "done") << r.sequences[0].message;
+  ASSERT_EQ(r.sequences[1].status, "done") << r.sequences[1].message;
+  EXPECT_EQ(invocations(dir), 3);
+  const nlohmann::json splits = nlohmann::json::parse(std::ifstream(dir + "/set/splits.json"));
+  EXPECT_EQ(splits["twins"][r.sequences[0].name], r.sequences[1].name);
+}
+
 // The low-poly proxy as the collider: the skirt is simulated against it, the
 // sequence still records (and is checked against) the real body.
 TEST(DatagenBlender, ProxyColliderKeepsTheSkirtOnTheBody) {

@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
     if (options.dry_run) return 0;
     const int bad = r.count("failed");
     std::printf(
-        "%s: %d simulated, %d kept from earlier runs, %d rejected, %d failed, %d skipped (--only); "
+        "%s: %d simulated, %d kept from earlier runs, %d rejected, %d failed, %d skipped; "
         "report.tsv\n",
         r.output.c_str(), r.count("done"), r.count("kept"), r.count("rejected"), r.count("failed"),
         r.count("skipped"));
