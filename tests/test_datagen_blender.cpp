@@ -28,6 +28,18 @@ int invocations(const std::string& dir) {
   return n;
 }
 
+// A Blender that logs each call to <dir>/calls and, while <dir>/fail exists,
+// fails every call whose arguments match the shell pattern `failing`.
+std::string counting_blender(const std::string& dir, const std::string& failing) {
+  const std::string wrapper = dir + "/blender.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\necho call >> '" << dir << "/calls'\n"
+                         << "case \"$*\" in " << failing << ") if [ -e '" << dir
+                         << "/fail' ]; then echo simulated crash; exit 1; fi;; esac\nexec blender \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all);
+  std::ofstream(dir + "/fail") << "1";
+  return wrapper;
+}
+
 const SequenceOutcome& outcome(const GenerateReport& r, const std::string& part) {
   for (const SequenceOutcome& o : r.sequences)
     if (o.name.find(part) != std::string::npos) return o;
@@ -39,13 +51,7 @@ const SequenceOutcome& outcome(const GenerateReport& r, const std::string& part)
 TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
   const std::string dir = pleat_test::temp_dir("datagen_blender");
   const std::string a = pleat_test::asset_dir();
-  // A Blender that counts its calls and fails for the "FAILME" body while the flag file exists.
-  const std::string wrapper = dir + "/blender.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\necho call >> '" << dir << "/calls'\n"
-                         << "case \"$*\" in *FAILME*) if [ -e '" << dir
-                         << "/fail' ]; then echo simulated crash; exit 1; fi;; esac\nexec blender \"$@\"\n";
-  fs::permissions(wrapper, fs::perms::owner_all);
-  std::ofstream(dir + "/fail") << "1";
+  const std::string wrapper = counting_blender(dir, "*FAILME*");  // fails for the "FAILME" body
   const std::string text = pleat_test::skirt_datagen_config(
       dir, "\"blender\": \"" + wrapper + "\",",
       "[{\"name\": \"plain\"}, {\"name\": \"FAILME\", \"values\": {\"weight\": 0.8}}]", "{\"train\": 2}");
@@ -171,11 +177,7 @@ TEST(DatagenBlender, SimulatesChecksResumesAndIsolatesFailures) {
 // original is accepted, in the same run or a later one.
 TEST(DatagenBlender, TwinWaitsForItsOriginal) {
   const std::string dir = pleat_test::temp_dir("datagen_twin");
-  const std::string wrapper = dir + "/blender.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\necho call >> '" << dir << "/calls'\nif [ -e '" << dir
-                         << "/fail' ]; then echo simulated crash; exit 1; fi\nexec blender \"$@\"\n";
-  fs::permissions(wrapper, fs::perms::owner_all);
-  std::ofstream(dir + "/fail") << "1";
+  const std::string wrapper = counting_blender(dir, "*");
   const std::string text = pleat_test::skirt_datagen_config(
       dir, "\"blender\": \"" + wrapper + "\", \"twins\": {\"split\": \"train\", \"extra_rest_frames\": 2},",
       "[{\"name\": \"plain\"}]", "{\"train\": 1}");
