@@ -103,6 +103,30 @@ TEST(DatagenConfig, ShippedDemoConfigIsAsLargeAsTheDataSetMustBe) {
   EXPECT_GT(c.held_out, 0);
 }
 
+// The generic set's extra garment: training sequences only, on the demo set's
+// training clips and shapes, simulated as the demo set is, with a garment the
+// demo set neither trains nor holds out (so no test clip or held-out garment
+// leaks into training).
+TEST(DatagenConfig, ShippedSuitConfigAddsOnlyTrainingSequences) {
+  const Config demo = read_config(pleat_test::source_dir() + "/data/datagen/demo.json");
+  const Config suit = read_config(pleat_test::source_dir() + "/data/datagen/demo_suit.json");
+  std::set<std::string> training_clips, demo_garments;
+  for (const MotionSpec& m : demo.motions)
+    if (m.split == "train") training_clips.insert(m.source);
+  for (const MotionSpec& m : suit.motions) {
+    EXPECT_EQ(m.split, "train") << m.name;
+    EXPECT_TRUE(training_clips.count(m.source)) << m.name << " is not a training clip of demo.json";
+  }
+  EXPECT_EQ(suit.validation + suit.test + suit.held_out, 0);
+  for (const GarmentSpec& g : demo.garments) demo_garments.insert(g.mhclo);
+  ASSERT_EQ(suit.garments.size(), 1u);
+  EXPECT_FALSE(demo_garments.count(suit.garments[0].mhclo));
+  EXPECT_EQ(suit.shapes.size(), demo.shapes.size());
+  EXPECT_EQ(suit.cloth.quality, demo.cloth.quality);
+  EXPECT_EQ(suit.cloth.mass, demo.cloth.mass);
+  EXPECT_EQ(suit.collider, demo.collider);
+}
+
 // The per-asset data set (training.md): one garment on one body, every clip
 // of the asset pack with a split of its own for validation and test, and
 // twins of the test sequences for the noise floor.
