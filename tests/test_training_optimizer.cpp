@@ -64,3 +64,20 @@ TEST(TrainingOptimizer, CosineAnnealing) {
   EXPECT_NEAR(cosine_learning_rate(3e-3, 0.0, 25, 100), 3e-3 * 0.5 * (1 + std::cos(3.14159265358979 / 4)),
               1e-12);
 }
+
+TEST(TrainingOptimizer, WeightDecayShrinksOnlyTheNamedParametersBeforeTheUpdate) {
+  torch::Tensor w = torch::tensor({2.0, -4.0}, torch::kFloat64).requires_grad_(true);
+  torch::Tensor b = torch::tensor({2.0, -4.0}, torch::kFloat64).requires_grad_(true);
+  Adamax opt({w, b}, 0.1, 0.9, 0.999, 1e-8);
+  opt.set_weight_decay(0.5, {w});
+  // L = 3 (w0 + b0): one step moves w0 and b0 by the same Adamax update
+  // (-0.1 · m / u / (1 - β1) = -0.1, up to ε); w is first shrunk by 1 - 0.1 · 0.5.
+  opt.zero_grad();
+  (3 * (w[0] + b[0])).backward();
+  opt.step();
+  EXPECT_NEAR(w[0].item<double>(), 2.0 * 0.95 - 0.1, 1e-9);
+  EXPECT_NEAR(b[0].item<double>(), 2.0 - 0.1, 1e-9);
+  // A zero gradient still decays: w1 has a gradient tensor (zeros), so it shrinks.
+  EXPECT_NEAR(w[1].item<double>(), -4.0 * 0.95, 1e-12);
+  EXPECT_NEAR(b[1].item<double>(), -4.0, 1e-12);
+}

@@ -1,5 +1,6 @@
 #include "optimizer.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pleat::training {
@@ -8,6 +9,7 @@ Adamax::Adamax(std::vector<torch::Tensor> parameters, double learning_rate, doub
                double epsilon)
     : parameters_(std::move(parameters)),
       steps_(parameters_.size(), 0),
+      decayed_(parameters_.size(), false),
       learning_rate_(learning_rate),
       beta1_(beta1),
       beta2_(beta2),
@@ -25,10 +27,18 @@ void Adamax::step() {
     if (!p.grad().defined()) continue;
     const torch::Tensor g = p.grad();
     const int64_t t = ++steps_[i];
+    if (decayed_[i]) p.mul_(1.0 - learning_rate_ * weight_decay_);
     first_moment_[i].mul_(beta1_).add_(g, 1.0 - beta1_);
     infinity_norm_[i] = torch::maximum(infinity_norm_[i] * beta2_, g.abs() + epsilon_);
     p.addcdiv_(first_moment_[i], infinity_norm_[i], -learning_rate_ / (1.0 - std::pow(beta1_, double(t))));
   }
+}
+
+void Adamax::set_weight_decay(double weight_decay, const std::vector<torch::Tensor>& decayed) {
+  weight_decay_ = weight_decay;
+  for (size_t i = 0; i < parameters_.size(); ++i)
+    decayed_[i] = std::any_of(decayed.begin(), decayed.end(),
+                              [&](const torch::Tensor& d) { return d.is_same(parameters_[i]); });
 }
 
 void Adamax::zero_grad() {

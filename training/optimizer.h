@@ -20,6 +20,12 @@ class Adamax {
   void step();
   void zero_grad();
   void set_learning_rate(double lr) { learning_rate_ = lr; }
+
+  // Decoupled weight decay (Loshchilov & Hutter 2019, AdamW): each step first
+  // shrinks the parameters that are in `decayed` by p -= lr · weight_decay · p,
+  // apart from the gradient's update, so the decay follows the annealed
+  // learning rate and is not rescaled by u as an L2 term in the loss would be.
+  void set_weight_decay(double weight_decay, const std::vector<torch::Tensor>& decayed);
   double learning_rate() const { return learning_rate_; }
 
   // m and u of every parameter, then the step counts (one per parameter).
@@ -29,7 +35,8 @@ class Adamax {
  private:
   std::vector<torch::Tensor> parameters_, first_moment_, infinity_norm_;
   std::vector<int64_t> steps_;
-  double learning_rate_, beta1_, beta2_, epsilon_;
+  std::vector<bool> decayed_;
+  double learning_rate_, beta1_, beta2_, epsilon_, weight_decay_ = 0.0;
 };
 
 // Cosine annealing from `start` to `end` over `period` epochs (then `end`).

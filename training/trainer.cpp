@@ -74,6 +74,10 @@ Trainer::Trainer(TrainerConfig config)
   initial_ = starting_model(train_.sequences().front().body);
   network_ = Network(*initial_);
   optimizer_ = std::make_unique<Adamax>(network_->parameters(), config_.learning_rate);
+  std::vector<torch::Tensor> matrices;
+  for (const torch::Tensor& p : network_->parameters())
+    if (p.dim() >= 2) matrices.push_back(p);
+  optimizer_->set_weight_decay(config_.weight_decay, matrices);
   for (const TrainingSequence& s : train_.sequences())
     bound_train_.push_back(std::make_unique<BoundGarment>(*initial_, s.garment, s.body));
   for (const TrainingSequence& s : validation_.sequences())
@@ -426,6 +430,7 @@ std::shared_ptr<runtime::Model> Trainer::export_model() const {
   t.optimizer = "adamax";
   t.learning_rate = config_.learning_rate;
   t.schedule = "cosine; " + config_.schedule_source;
+  if (config_.weight_decay > 0) t.schedule += "; weight decay " + Json(config_.weight_decay).dump();
   if (best_epoch_ > 0)
     t.schedule += "; kept epoch " + std::to_string(best_epoch_) + " of " + std::to_string(epoch_) +
                   " (lowest validation E_verts)";

@@ -125,6 +125,7 @@ TrainerConfig read_trainer_config(const std::string& path) {
     c.sequences_per_batch = j.value("sequences_per_batch", c.sequences_per_batch);
     c.learning_rate = j.value("learning_rate", c.learning_rate);
     c.min_learning_rate = j.value("min_learning_rate", c.min_learning_rate);
+    c.weight_decay = j.value("weight_decay", c.weight_decay);
     c.seed = j.value("seed", c.seed);
     c.frequency_division = j.value("frequency_division", c.frequency_division);
     c.progress = j.value("progress", c.progress);
@@ -162,6 +163,8 @@ TrainerConfig read_trainer_config(const std::string& path) {
   }
   if (c.epochs < 1 || c.batch_frames < 1) bad_config(path, "epochs and batch_frames must be >= 1");
   if (c.sequences_per_batch < 0) bad_config(path, "sequences_per_batch must be >= 0");
+  if (!(c.weight_decay >= 0.0 && c.weight_decay * c.learning_rate < 1.0))
+    bad_config(path, "weight_decay must be >= 0 and below 1 / learning_rate");
   c.model.seed = c.seed;
   return c;
 }

@@ -26,6 +26,9 @@ struct TrainerConfig {
   int64_t batch_frames = 4;
   int64_t sequences_per_batch = 0;  // 0: batches mix frames freely (Dataset::epoch)
   double learning_rate = 3e-3, min_learning_rate = 0.0;
+  // Decoupled weight decay of every weight matrix (Adamax::set_weight_decay);
+  // biases and FlexiGAT's exponents are not decayed. 0: none.
+  double weight_decay = 0.0;
   uint64_t seed = 1;
   bool frequency_division = true;  // false: plain vertex loss (the ablation without FreqDiv)
   runtime::ModelInitOptions model;
