@@ -20,13 +20,13 @@ class Adamax {
   void step();
   void zero_grad();
   void set_learning_rate(double lr) { learning_rate_ = lr; }
+  double learning_rate() const { return learning_rate_; }
 
   // Decoupled weight decay (Loshchilov & Hutter 2019, AdamW): each step first
   // shrinks the parameters that are in `decayed` by p -= lr · weight_decay · p,
   // apart from the gradient's update, so the decay follows the annealed
   // learning rate and is not rescaled by u as an L2 term in the loss would be.
   void set_weight_decay(double weight_decay, const std::vector<torch::Tensor>& decayed);
-  double learning_rate() const { return learning_rate_; }
 
   // m and u of every parameter, then the step counts (one per parameter).
   std::vector<torch::Tensor> state() const;
