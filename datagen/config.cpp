@@ -141,6 +141,13 @@ Config parse_config(const std::string& text, const std::string& path) {
     spec.held_out = g.flag("held_out", false);
     spec.pin_distance = g.number("pin_distance", spec.pin_distance, 0, 0.2);
     spec.pin_band = g.number("pin_band", spec.pin_band, 0.001, 2);
+    if (g.has("stretch")) {
+      Fields s = g.object("stretch");
+      spec.stretch_below = s.number("below", 0, 0, 1);
+      spec.stretch_factor = s.number("factor", 1, 1, 4);
+      s.done();
+      if (spec.stretch_below == 0 || spec.stretch_factor == 1) s.bad("needs 'below' > 0 and 'factor' > 1");
+    }
     return spec;
   });
   c.shapes = read_list<ShapeSpec>(f, "shapes", [&](Fields& s) {

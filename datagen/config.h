@@ -72,6 +72,12 @@ struct GarmentSpec {
   // (sequence_inputs.h pinned_vertices); pin_distance 0 pins nothing.
   double pin_distance = 0.01;
   double pin_band = 0.05;
+  // A longer variant of a skirt or dress (geometry augmentation): the part of
+  // the fitted garment below `stretch_below` of its height (a fraction,
+  // measured up from its lowest point) is stretched downwards by
+  // `stretch_factor` (sequence_inputs.h stretch_hem). 1 = the garment as bound.
+  double stretch_below = 0.0;
+  double stretch_factor = 1.0;
 };
 
 struct ShapeSpec {

@@ -139,12 +139,22 @@ std::vector<int32_t> pinned_vertices(const Body& body, const TriMesh& garment, d
   return pinned;
 }
 
+void stretch_hem(Points3d* vertices, double below, double factor) {
+  auto y = vertices->col(1);
+  const double lowest = y.minCoeff();
+  const double cut = lowest + below * (y.maxCoeff() - lowest);
+  for (Eigen::Index v = 0; v < y.size(); ++v)
+    if (y(v) < cut) y(v) = cut - factor * (cut - y(v));
+}
+
 SequenceInputs prepare_sequence(const Config& config, const Assets& assets, const Job& job) {
   SequenceInputs in;
   const Body& body = assets.bodies[job.shape];
   in.body = &body;
   in.garment_rest.vertices = fit_clothes(assets.bindings[job.garment], assets.shaped[job.shape]);
   in.garment_rest.triangles = assets.garment_triangles[job.garment];
+  const GarmentSpec& g = config.garments[job.garment];
+  if (g.stretch_factor != 1.0) stretch_hem(&in.garment_rest.vertices, g.stretch_below, g.stretch_factor);
 
   RetargetOptions options;
   const JointMap& map = assets.maps[job.segment.motion];
@@ -174,7 +184,6 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
     in.collider_rest.triangles = assets.collider_triangles;
     in.collider_frames = skinned_frames(body, in.collider_rest.vertices, in.motion);
   }
-  const GarmentSpec& g = config.garments[job.garment];
   in.pinned = pinned_vertices(body, in.garment_rest, g.pin_distance, g.pin_band);
   return in;
 }

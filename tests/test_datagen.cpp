@@ -64,6 +64,13 @@ std::string with_second_motion(const std::string& motion) {
   return text.replace(text.find(first), first.size(), first + ",\n  " + motion);
 }
 
+// config_text() with `setting` ("key": value) added to the dress's entry.
+std::string with_dress_setting(const std::string& setting) {
+  std::string text = config_text();
+  const std::string dress = "female_elegantsuit01.mhclo\"";
+  return text.insert(text.find(dress) + dress.size(), ", " + setting);
+}
+
 }  // namespace
 
 TEST(DatagenConfig, ReadsEverySettingWithDefaults) {
@@ -103,28 +110,35 @@ TEST(DatagenConfig, ShippedDemoConfigIsAsLargeAsTheDataSetMustBe) {
   EXPECT_GT(c.held_out, 0);
 }
 
-// The generic set's extra garment: training sequences only, on the demo set's
-// training clips and shapes, simulated as the demo set is, with a garment the
-// demo set neither trains nor holds out (so no test clip or held-out garment
-// leaks into training).
-TEST(DatagenConfig, ShippedSuitConfigAddsOnlyTrainingSequences) {
+// The generic set's extra data: training sequences only, on the demo set's
+// training clips and shapes, simulated as the demo set is. Its garments are
+// new (the suit) or longer variants of a garment the demo set trains on (the
+// long set), never a held-out one, so no test clip or held-out garment leaks
+// into training.
+TEST(DatagenConfig, ShippedExtraGenericConfigsAddOnlyTrainingSequences) {
   const Config demo = read_config(pleat_test::source_dir() + "/data/datagen/demo.json");
-  const Config suit = read_config(pleat_test::source_dir() + "/data/datagen/demo_suit.json");
-  std::set<std::string> training_clips, demo_garments;
+  std::set<std::string> training_clips, trained_garments, held_out_garments;
   for (const MotionSpec& m : demo.motions)
     if (m.split == "train") training_clips.insert(m.source);
-  for (const MotionSpec& m : suit.motions) {
-    EXPECT_EQ(m.split, "train") << m.name;
-    EXPECT_TRUE(training_clips.count(m.source)) << m.name << " is not a training clip of demo.json";
+  for (const GarmentSpec& g : demo.garments)
+    (g.held_out ? held_out_garments : trained_garments).insert(g.mhclo);
+  for (const std::string file : {"demo_suit.json", "demo_long.json"}) {
+    const Config extra = read_config(pleat_test::source_dir() + "/data/datagen/" + file);
+    for (const MotionSpec& m : extra.motions) {
+      EXPECT_EQ(m.split, "train") << file << ": " << m.name;
+      EXPECT_TRUE(training_clips.count(m.source))
+          << file << ": " << m.name << " is not a training clip of demo.json";
+    }
+    EXPECT_EQ(extra.validation + extra.test + extra.held_out, 0) << file;
+    for (const GarmentSpec& g : extra.garments) {
+      EXPECT_FALSE(held_out_garments.count(g.mhclo)) << file << ": " << g.name;
+      EXPECT_EQ(trained_garments.count(g.mhclo), g.stretch_factor != 1.0 ? 1u : 0u)
+          << file << ": " << g.name << " is either new or a longer variant of a training garment";
+    }
+    EXPECT_EQ(extra.shapes.size(), demo.shapes.size()) << file;
+    EXPECT_EQ(simulator_settings(extra, extra.garments[0]), simulator_settings(demo, demo.garments[0]))
+        << file;
   }
-  EXPECT_EQ(suit.validation + suit.test + suit.held_out, 0);
-  for (const GarmentSpec& g : demo.garments) demo_garments.insert(g.mhclo);
-  ASSERT_EQ(suit.garments.size(), 1u);
-  EXPECT_FALSE(demo_garments.count(suit.garments[0].mhclo));
-  EXPECT_EQ(suit.shapes.size(), demo.shapes.size());
-  EXPECT_EQ(suit.cloth.quality, demo.cloth.quality);
-  EXPECT_EQ(suit.cloth.mass, demo.cloth.mass);
-  EXPECT_EQ(suit.collider, demo.collider);
 }
 
 // The per-asset data set (training.md): one garment on one body, every clip
@@ -566,6 +580,55 @@ TEST(DatagenInputs, ProxyColliderIsFittedToTheShapeAndFollowsTheBody) {
   plain.collider.clear();
   EXPECT_TRUE(prepare_sequence(plain, load_assets(plain), job).collider_frames.empty())
       << "without a proxy the body collides";
+}
+
+// Hand-computed: heights 0, 1, 2, 4; the lower half (below y = 2) three
+// times as long: 0 -> 2 - 3 * 2 = -4, 1 -> -1; 2 and 4 stay, x and z too.
+TEST(DatagenInputs, StretchHemLengthensOnlyTheLowerPart) {
+  Points3d v(4, 3);
+  v << 0.5, 0, 0.1, -0.5, 1, 0.2, 0.3, 2, -0.3, 0, 4, 0;
+  const Points3d before = v;
+  stretch_hem(&v, 0.5, 3.0);
+  EXPECT_DOUBLE_EQ(v(0, 1), -4.0);
+  EXPECT_DOUBLE_EQ(v(1, 1), -1.0);
+  EXPECT_DOUBLE_EQ(v(2, 1), 2.0);
+  EXPECT_DOUBLE_EQ(v(3, 1), 4.0);
+  EXPECT_EQ(v.col(0), before.col(0));
+  EXPECT_EQ(v.col(2), before.col(2));
+}
+
+// A garment's "stretch" reaches the fitted rest garment of every sequence:
+// the dress's hem drops by (factor - 1) times the stretched part's height,
+// its shoulders stay where the plain fit put them.
+TEST(DatagenInputs, StretchedGarmentIsTheFittedOneWithALongerHem) {
+  Config plain = parsed();
+  plain.segment_frames = 20;
+  Config stretched =
+      parse_config(with_dress_setting(R"("stretch": {"below": 0.35, "factor": 1.8})"), "/tmp/c.json");
+  stretched.segment_frames = 20;
+  ASSERT_DOUBLE_EQ(stretched.garments[0].stretch_factor, 1.8);
+  ASSERT_DOUBLE_EQ(stretched.garments[0].stretch_below, 0.35);
+  EXPECT_DOUBLE_EQ(stretched.garments[1].stretch_factor, 1.0) << "only the garment that asks";
+  const Assets assets = load_assets(plain);
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  const std::vector<Job> jobs = plan_jobs(plain, frames);
+  const auto job = std::find_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.garment == 0; });
+  ASSERT_NE(job, jobs.end());
+  const Points3d a = prepare_sequence(plain, assets, *job).garment_rest.vertices;
+  const Points3d b = prepare_sequence(stretched, assets, *job).garment_rest.vertices;
+  const double lowest = a.col(1).minCoeff(), cut = lowest + 0.35 * (a.col(1).maxCoeff() - lowest);
+  EXPECT_NEAR(b.col(1).minCoeff(), cut - 1.8 * (cut - lowest), 1e-12);
+  EXPECT_GT(cut - lowest, 0.2) << "a dress's skirt is longer than 20 cm";
+  for (Eigen::Index v = 0; v < a.rows(); ++v)
+    if (a(v, 1) >= cut) {
+      EXPECT_EQ(a.row(v), b.row(v)) << "vertex " << v;
+    }
+  expect_error(
+      [] { parse_config(with_dress_setting(R"("stretch": {"below": 0.3, "factor": 5})"), "c.json"); },
+      PLEAT_ERROR_FORMAT, "'garments[0].stretch.factor' must be in [1, 4], is 5");
+  expect_error([] { parse_config(with_dress_setting(R"("stretch": {"factor": 2})"), "c.json"); },
+               PLEAT_ERROR_FORMAT, "'garments[0].stretch' needs 'below' > 0 and 'factor' > 1");
 }
 
 // Three pieces: a strip whose top touches the body (pinned where it touches),
