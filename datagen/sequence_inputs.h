@@ -67,6 +67,7 @@ Motion with_lead_in(const Motion& clip, int64_t rest_frames, int64_t blend_frame
 // Pieces of at most kRigidPieceVertices vertices (buttons, loops) are pinned
 // whole. distance <= 0 pins nothing.
 constexpr int32_t kRigidPieceVertices = 64;
+std::vector<int32_t> pinned_vertices(const Body& body, const TriMesh& garment, double distance, double band);
 
 // A longer garment from a bound one: with y0 the lowest rest height and y1 =
 // y0 + below (y_max - y0), every vertex under y1 moves to
@@ -74,6 +75,5 @@ constexpr int32_t kRigidPieceVertices = 64;
 // and keeps its width; only heights change, so a skirt hangs as it was cut,
 // longer. below in (0, 1], factor >= 1.
 void stretch_hem(Points3d* vertices, double below, double factor);
-std::vector<int32_t> pinned_vertices(const Body& body, const TriMesh& garment, double distance, double band);
 
 }  // namespace pleat::datagen
