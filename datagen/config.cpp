@@ -144,7 +144,7 @@ Config parse_config(const std::string& text, const std::string& path) {
     if (g.has("stretch")) {
       Fields s = g.object("stretch");
       spec.stretch_below = s.number("below", 0, 0, 1);
-      spec.stretch_factor = s.number("factor", 1, 1, 4);
+      spec.stretch_factor = s.number("factor", 1, 1, 8);
       s.done();
       if (spec.stretch_below == 0 || spec.stretch_factor == 1) s.bad("needs 'below' > 0 and 'factor' > 1");
     }

@@ -122,7 +122,7 @@ TEST(DatagenConfig, ShippedExtraGenericConfigsAddOnlyTrainingSequences) {
     if (m.split == "train") training_clips.insert(m.source);
   for (const GarmentSpec& g : demo.garments)
     (g.held_out ? held_out_garments : trained_garments).insert(g.mhclo);
-  for (const std::string file : {"demo_suit.json", "demo_long.json"}) {
+  for (const std::string file : {"demo_suit.json", "demo_long.json", "demo_ankle.json"}) {
     const Config extra = read_config(pleat_test::source_dir() + "/data/datagen/" + file);
     for (const MotionSpec& m : extra.motions) {
       EXPECT_EQ(m.split, "train") << file << ": " << m.name;
@@ -625,8 +625,8 @@ TEST(DatagenInputs, StretchedGarmentIsTheFittedOneWithALongerHem) {
       EXPECT_EQ(a.row(v), b.row(v)) << "vertex " << v;
     }
   expect_error(
-      [] { parse_config(with_dress_setting(R"("stretch": {"below": 0.3, "factor": 5})"), "c.json"); },
-      PLEAT_ERROR_FORMAT, "'garments[0].stretch.factor' must be in [1, 4], is 5");
+      [] { parse_config(with_dress_setting(R"("stretch": {"below": 0.3, "factor": 9})"), "c.json"); },
+      PLEAT_ERROR_FORMAT, "'garments[0].stretch.factor' must be in [1, 8], is 9");
   expect_error([] { parse_config(with_dress_setting(R"("stretch": {"factor": 2})"), "c.json"); },
                PLEAT_ERROR_FORMAT, "'garments[0].stretch' needs 'below' > 0 and 'factor' > 1");
 }
