@@ -78,6 +78,7 @@ struct GarmentSpec {
   // `stretch_factor` (sequence_inputs.h stretch_hem). 1 = the garment as bound.
   double stretch_below = 0.0;
   double stretch_factor = 1.0;
+  bool stretched() const { return stretch_factor != 1.0; }
 };
 
 struct ShapeSpec {

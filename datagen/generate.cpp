@@ -55,7 +55,7 @@ Json job_identity(const Config& c, const Job& job) {
   if (m.turn != 0.0) identity["turn"] = m.turn;
   if (m.hold_frames != 0) identity["hold_frames"] = m.hold_frames;
   if (m.take_frames != 0) identity["take_frames"] = m.take_frames;
-  if (g.stretch_factor != 1.0) identity["stretch"] = {g.stretch_below, g.stretch_factor};
+  if (g.stretched()) identity["stretch"] = {g.stretch_below, g.stretch_factor};
   return identity;
 }
 
@@ -111,7 +111,7 @@ SequenceData sequence_of(const Config& c, const Job& job, const SequenceInputs& 
   if (motion.hold_frames != 0) s["motion_hold_frames"] = motion.hold_frames;
   if (motion.take_frames != 0) s["motion_take_frames"] = motion.take_frames;
   const GarmentSpec& garment = c.garments[job.garment];
-  if (garment.stretch_factor != 1.0)
+  if (garment.stretched())
     s["garment_stretch"] = {{"below", garment.stretch_below}, {"factor", garment.stretch_factor}};
   s["root_offset"] = {in.root_offset.x(), in.root_offset.y(), in.root_offset.z()};
   s["pinned_vertices"] = in.pinned.size();

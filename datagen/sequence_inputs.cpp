@@ -154,7 +154,7 @@ SequenceInputs prepare_sequence(const Config& config, const Assets& assets, cons
   in.garment_rest.vertices = fit_clothes(assets.bindings[job.garment], assets.shaped[job.shape]);
   in.garment_rest.triangles = assets.garment_triangles[job.garment];
   const GarmentSpec& g = config.garments[job.garment];
-  if (g.stretch_factor != 1.0) stretch_hem(&in.garment_rest.vertices, g.stretch_below, g.stretch_factor);
+  if (g.stretched()) stretch_hem(&in.garment_rest.vertices, g.stretch_below, g.stretch_factor);
 
   RetargetOptions options;
   const JointMap& map = assets.maps[job.segment.motion];

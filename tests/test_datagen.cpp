@@ -71,6 +71,13 @@ std::string with_dress_setting(const std::string& setting) {
   return text.insert(text.find(dress) + dress.size(), ", " + setting);
 }
 
+// The jobs `c` plans for the clips `assets` loaded.
+std::vector<Job> planned_jobs(const Config& c, const Assets& assets) {
+  std::vector<int64_t> frames;
+  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
+  return plan_jobs(c, frames);
+}
+
 }  // namespace
 
 TEST(DatagenConfig, ReadsEverySettingWithDefaults) {
@@ -132,7 +139,7 @@ TEST(DatagenConfig, ShippedExtraGenericConfigsAddOnlyTrainingSequences) {
     EXPECT_EQ(extra.validation + extra.test + extra.held_out, 0) << file;
     for (const GarmentSpec& g : extra.garments) {
       EXPECT_FALSE(held_out_garments.count(g.mhclo)) << file << ": " << g.name;
-      EXPECT_EQ(trained_garments.count(g.mhclo), g.stretch_factor != 1.0 ? 1u : 0u)
+      EXPECT_EQ(trained_garments.count(g.mhclo), g.stretched() ? 1u : 0u)
           << file << ": " << g.name << " is either new or a longer variant of a training garment";
     }
     EXPECT_EQ(extra.shapes.size(), demo.shapes.size()) << file;
@@ -481,9 +488,7 @@ TEST(DatagenInputs, TurnSpinsTheSequenceFromTheBlendOn) {
   EXPECT_DOUBLE_EQ(c.motions[1].turn, 0.0);
   c.segment_frames = 20;
   const Assets assets = load_assets(c);
-  std::vector<int64_t> frames;
-  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
-  const std::vector<Job> jobs = plan_jobs(c, frames);
+  const std::vector<Job> jobs = planned_jobs(c, assets);
   const auto job = std::find_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.segment.motion == 0; });
   ASSERT_NE(job, jobs.end());
   Config plain = c;
@@ -550,9 +555,7 @@ TEST(DatagenInputs, ProxyColliderIsFittedToTheShapeAndFollowsTheBody) {
   Config c = parsed(", \"collider\": \"" + a + "/body/proxies/female1605/female1605.proxy\"");
   c.segment_frames = 20;
   const Assets assets = load_assets(c);
-  std::vector<int64_t> frames;
-  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
-  const std::vector<Job> jobs = plan_jobs(c, frames);
+  const std::vector<Job> jobs = planned_jobs(c, assets);
   ASSERT_FALSE(jobs.empty());
   const Job& job = jobs.back();
   const SequenceInputs in = prepare_sequence(c, assets, job);
@@ -610,9 +613,7 @@ TEST(DatagenInputs, StretchedGarmentIsTheFittedOneWithALongerHem) {
   ASSERT_DOUBLE_EQ(stretched.garments[0].stretch_below, 0.35);
   EXPECT_DOUBLE_EQ(stretched.garments[1].stretch_factor, 1.0) << "only the garment that asks";
   const Assets assets = load_assets(plain);
-  std::vector<int64_t> frames;
-  for (const Motion& m : assets.motions) frames.push_back(m.frame_count);
-  const std::vector<Job> jobs = plan_jobs(plain, frames);
+  const std::vector<Job> jobs = planned_jobs(plain, assets);
   const auto job = std::find_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.garment == 0; });
   ASSERT_NE(job, jobs.end());
   const Points3d a = prepare_sequence(plain, assets, *job).garment_rest.vertices;
