@@ -1,5 +1,5 @@
-// The demo model shipped in data/models (trained on pleat-demo-v3, the
-// Blender data set of data/datagen/demo.json; report: data/models/demo.md):
+// The demo model shipped in data/models (trained on the Blender data sets of
+// data/datagen/demo.json, dress.json and demo_long.json; report: data/models/demo.md):
 // it loads, it is trained (its learned stages move the garment away from
 // plain skinning, which an initialised model never does), and it drives the
 // sample dress through a walk on the MakeHuman body without leaving the body.
