@@ -207,10 +207,10 @@ int main(int argc, char** argv) {
     }
   }
 
-  // What model settings cost on top of the full stage: top-8 skinning
-  // (decision 0007), the offset filter (decision 0008) and the refinement
-  // reading the fused code (decision 0015), one thread, ratios to the plain
-  // model measured in the same run.
+  // What model settings cost on top of the full stage: top-k skinning
+  // (decisions 0007 and 0036; "all joints" is the exact softmax), the offset filter (decision 0008) and the
+  // refinement reading the fused code (decision 0015), one thread, ratios to the plain model measured in the
+  // same run.
   std::shared_ptr<const Garment> garment = skirt(64, 64, hips);
   std::printf("\nmodel settings, full stage, N = %d, 1 thread, batch of 8\n", garment->rest.vertex_count());
   std::printf("%-32s %9s %7s\n", "setting", "ms/frame", "ratio");
@@ -221,6 +221,8 @@ int main(int argc, char** argv) {
   for (auto [name, top_k, h, base] :
        {std::tuple<const char*, int, float, const Model*>{"top-4, no filter", 4, 0.0f, model.get()},
         {"top-8, no filter", 8, 0.0f, model.get()},
+        {"top-16, no filter", 16, 0.0f, model.get()},
+        {"all joints, no filter", joints, 0.0f, model.get()},
         {"top-4, filter h 1 cm", 4, 0.01f, model.get()},
         {"top-8, filter h 1 cm", 8, 0.01f, model.get()},
         {"top-8, refinement + F^t", 8, 0.0f, fused.get()},

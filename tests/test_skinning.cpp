@@ -1,11 +1,15 @@
 // Skin weights and linear blend skinning against hand-computed cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
+#include <vector>
 
 #include "body/skinning.h"
 #include "core/error.h"
+#include "runtime/frame_features.h"
 #include "support/expect_error.h"
 
 using pleat::Points3d;
@@ -246,4 +250,41 @@ TEST(Skinning, BatchedFramesMatchSingleFrames) {
                PLEAT_ERROR_BUFFER_TOO_SMALL, "need 1800");
   expect_error([&] { pleat::skin_frames(rest_f, r.weights, motion, 3, 3, &ws, out.data(), out.size()); },
                PLEAT_ERROR_INVALID_ARGUMENT, "outside the motion's 5");
+}
+
+// The runtime's learned weights: top-k of the logits against a full sort
+// (largest first, ties to the lower joint) and a double-precision softmax
+// over the kept ones, with ties at the cut (logits on a coarse grid).
+TEST(Skinning, RuntimeTopKSoftmaxMatchesSortedReference) {
+  std::mt19937 rng(7);
+  for (int32_t joints : {1, 5, 31, 300}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      std::vector<float> logits(static_cast<size_t>(joints));
+      std::uniform_int_distribution<int> grid(-8, 8);
+      std::normal_distribution<float> normal(0.0f, 3.0f);
+      for (float& l : logits) l = trial % 2 ? 0.5f * static_cast<float>(grid(rng)) : normal(rng);
+      for (int32_t k : {1, 2, 8, 16, joints}) {
+        if (k > joints) continue;
+        std::vector<int32_t> order(static_cast<size_t>(joints));
+        std::iota(order.begin(), order.end(), 0);
+        std::stable_sort(order.begin(), order.end(),
+                         [&](int32_t a, int32_t b) { return logits[a] > logits[b]; });
+        std::vector<int32_t> expected_joints(order.begin(), order.begin() + k);
+        std::sort(expected_joints.begin(), expected_joints.end());
+        double sum = 0.0;
+        for (int32_t j : expected_joints) sum += std::exp(double(logits[j]) - double(logits[order[0]]));
+
+        std::vector<float> weights(static_cast<size_t>(k));
+        std::vector<int32_t> chosen(static_cast<size_t>(k));
+        pleat::runtime::top_k_softmax(logits.data(), joints, k, weights.data(), chosen.data());
+        std::vector<int32_t> chosen_sorted = chosen;
+        std::sort(chosen_sorted.begin(), chosen_sorted.end());
+        ASSERT_EQ(chosen_sorted, expected_joints) << "S " << joints << " k " << k << " trial " << trial;
+        for (int32_t i = 0; i < k; ++i) {
+          const double expected = std::exp(double(logits[chosen[i]]) - double(logits[order[0]])) / sum;
+          EXPECT_NEAR(weights[i], expected, 1e-6) << "S " << joints << " k " << k << " joint " << chosen[i];
+        }
+      }
+    }
+  }
 }

@@ -84,8 +84,8 @@ class FrameFeatures {
 
 // Skinning weights of one vertex from its S logits: the k largest (ties:
 // lower joint first), softmax over those k alone (= the full softmax
-// truncated to k and renormalised). weights / joints receive k entries,
-// largest first.
+// truncated to k and renormalised). weights / joints receive k entries in no
+// set order (LBS does not need one). k is at most S.
 void top_k_softmax(const float* logits, int32_t joint_count, int32_t k, float* weights, int32_t* joints);
 
 }  // namespace pleat::runtime

@@ -319,12 +319,13 @@ void Instance::State::skin_frame(const PoseSequence& poses, int64_t t, Stage sta
   const bool masked = !mask.masked.empty();
   for_row_blocks(*executor, n, [&](int32_t begin, int32_t end) {
     for (int32_t v = begin; v < end; ++v) {
-      float s[12] = {};
-      for (int32_t i = 0; i < k; ++i) {
-        const float w = weights_out[static_cast<size_t>(v) * k + i];
-        const float* joint = skin.row(joints_out[static_cast<size_t>(v) * k + i]).data();
-        for (int c = 0; c < 12; ++c) s[c] += w * joint[c];
-      }
+      // M as 12-float packets: half the instructions of an element loop at 8 or 31 joints.
+      Eigen::Matrix<float, 12, 1> sum = Eigen::Matrix<float, 12, 1>::Zero();
+      for (int32_t i = 0; i < k; ++i)
+        sum.noalias() += weights_out[static_cast<size_t>(v) * k + i] *
+                         Eigen::Map<const Eigen::Matrix<float, 12, 1>>(
+                             skin.row(joints_out[static_cast<size_t>(v) * k + i]).data());
+      const float* s = sum.data();
       const float x = binding->rest(v, 0), y = binding->rest(v, 1), z = binding->rest(v, 2);
       out(v, 0) = s[0] * x + s[1] * y + s[2] * z + s[3];
       out(v, 1) = s[4] * x + s[5] * y + s[6] * z + s[7];
