@@ -208,8 +208,9 @@ int main(int argc, char** argv) {
   }
 
   // What model settings cost on top of the full stage: top-k skinning
-  // (decisions 0007 and 0036; "all joints" is the exact softmax), the offset filter (decision 0008) and the
-  // refinement reading the fused code (decision 0015), one thread, ratios to the plain model measured in the
+  // (decisions 0007 and 0036; "all joints" is the exact softmax), the offset
+  // filter (decision 0008) and the refinement reading the fused code
+  // (decision 0015), one thread, ratios to the plain model measured in the
   // same run.
   std::shared_ptr<const Garment> garment = skirt(64, 64, hips);
   std::printf("\nmodel settings, full stage, N = %d, 1 thread, batch of 8\n", garment->rest.vertex_count());
